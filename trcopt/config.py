@@ -1,0 +1,197 @@
+"""Settings as frozen dataclasses: compensation machine data, tolerances, machine limits.
+
+The TRC machine data follow spec §0.5 of ``sinumerik_trc.md`` (with its errata: MD20240 default 3).
+``Machine`` is the per-axis kinematic description used by the timing stage; it loads from the TOML
+format of design.md §3.1b and falls back to :data:`DEFAULT_MACHINE` for missing axes.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+from typing import Any
+
+from .errors import ConfigError
+
+__all__ = [
+    "Tolerances",
+    "TrcSettings",
+    "AxisLimits",
+    "Machine",
+    "DEFAULT_MACHINE",
+    "load_machine",
+    "machine_from_dict",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class Tolerances:
+    """Named geometric tolerances.
+
+    Parameters
+    ----------
+    coincidence_mm:
+        Two points closer than this are the same point (default 1 µm). Also the gap below which a
+        junction counts as tangential (R·|δ| small).
+    relative:
+        Relative tolerance of geometric predicates (1e-9).
+    arc_end_radius_mm:
+        Largest accepted difference between an arc's start and end radius (controllers: 0.002 mm).
+    """
+
+    coincidence_mm: float = 1e-3
+    relative: float = 1e-9
+    arc_end_radius_mm: float = 0.002
+
+
+@dataclass(frozen=True, slots=True)
+class TrcSettings:
+    """SINUMERIK machine data that govern 2D tool radius compensation (spec §0.5).
+
+    Angles in degrees as the machine data are written.
+    """
+
+    cutcom_corner_limit_deg: float = 100.0  # MD20210
+    cutcom_max_disc: int = 50  # MD20220
+    cutcom_curve_insert_limit_deg: float = 10.0  # MD20230
+    cutcom_maxnum_check_blocks: int = 3  # MD20240 (errata: default 3)
+    cutcom_maxnum_dummy_blocks: int = 3  # MD20250
+    wab_maxnum_dummy_blocks: int = 5  # MD20202
+    wab_clearance_tolerance_mm: float = 0.01  # MD20204
+    suppress_10763: bool = False  # MD11410 bit 1
+    strict: bool = False  # raise 10751 on reversed elements under CDOF (spec R28, §D-11)
+    tolerances: Tolerances = field(default_factory=Tolerances)
+
+    @property
+    def corner_limit_rad(self) -> float:
+        return math.radians(self.cutcom_corner_limit_deg)
+
+    @property
+    def curve_insert_limit_rad(self) -> float:
+        return math.radians(self.cutcom_curve_insert_limit_deg)
+
+    def with_(self, **changes: Any) -> TrcSettings:
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True, slots=True)
+class AxisLimits:
+    """Kinematic limits of one axis: velocity (mm/s), acceleration (mm/s²), optional jerk (mm/s³)."""
+
+    vmax_mm_s: float
+    amax_mm_s2: float
+    jmax_mm_s3: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("vmax_mm_s", "amax_mm_s2"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+                raise ConfigError(f"axis limit {name} must be a positive number, got {value!r}")
+        if self.jmax_mm_s3 is not None and not (
+            math.isfinite(self.jmax_mm_s3) and self.jmax_mm_s3 > 0
+        ):
+            raise ConfigError(f"axis limit jmax_mm_s3 must be positive, got {self.jmax_mm_s3!r}")
+
+
+@dataclass(frozen=True, slots=True)
+class Machine:
+    """A machine: name, rapid feed (mm/min) and per-axis limits for X, Y, Z.
+
+    ``feed_reference`` says whether the programmed feed applies to the contour (``"contour"``,
+    SINUMERIK's CFC-like reading) or to the tool centre (``"centre"``, CFTCP, the default).
+    """
+
+    name: str = "trcopt default 3-axis mill"
+    rapid_mm_min: float = 20000.0
+    axes: tuple[tuple[str, AxisLimits], ...] = (
+        ("X", AxisLimits(250.0, 2000.0, 50000.0)),
+        ("Y", AxisLimits(250.0, 2000.0, 50000.0)),
+        ("Z", AxisLimits(100.0, 1000.0, 20000.0)),
+    )
+    feed_reference: str = "centre"
+
+    def axis(self, name: str) -> AxisLimits:
+        for key, limits in self.axes:
+            if key == name:
+                return limits
+        raise ConfigError(f"machine {self.name!r} has no axis {name!r}")
+
+    @property
+    def rapid_mm_s(self) -> float:
+        return self.rapid_mm_min / 60.0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "rapid_mm_min": self.rapid_mm_min,
+            "feed_reference": self.feed_reference,
+            "axes": {
+                k: {"vmax_mm_s": a.vmax_mm_s, "amax_mm_s2": a.amax_mm_s2, "jmax_mm_s3": a.jmax_mm_s3}
+                for k, a in self.axes
+            },
+        }
+
+
+DEFAULT_MACHINE = Machine()
+
+_MACHINE_KEYS = {"name", "rapid_mm_min", "axes", "feed_reference"}
+_AXIS_KEYS = {f.name for f in fields(AxisLimits)}
+_FEED_REFERENCES = ("centre", "contour")
+
+
+def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machine:
+    """Build a :class:`Machine` from a parsed TOML table; unknown keys are errors naming the key."""
+    unknown = set(data) - _MACHINE_KEYS
+    if unknown:
+        raise ConfigError(f"{source}: unknown machine key {sorted(unknown)[0]!r}")
+    base = DEFAULT_MACHINE
+    axes = dict(base.axes)
+    raw_axes = data.get("axes", {})
+    if not isinstance(raw_axes, dict):
+        raise ConfigError(f"{source}: 'axes' must be a table")
+    for name, table in raw_axes.items():
+        if name not in ("X", "Y", "Z"):
+            raise ConfigError(f"{source}: unknown axis {name!r} (valid: X, Y, Z)")
+        if not isinstance(table, dict):
+            raise ConfigError(f"{source}: axes.{name} must be a table")
+        bad = set(table) - _AXIS_KEYS
+        if bad:
+            raise ConfigError(f"{source}: unknown key axes.{name}.{sorted(bad)[0]}")
+        try:
+            axes[name] = AxisLimits(
+                float(table["vmax_mm_s"]),
+                float(table["amax_mm_s2"]),
+                None if table.get("jmax_mm_s3") is None else float(table["jmax_mm_s3"]),
+            )
+        except KeyError as exc:
+            raise ConfigError(f"{source}: axes.{name} needs {exc.args[0]}") from None
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(f"{source}: axes.{name}: {exc}") from None
+    feed_reference = data.get("feed_reference", base.feed_reference)
+    if feed_reference not in _FEED_REFERENCES:
+        raise ConfigError(
+            f"{source}: feed_reference must be one of {', '.join(_FEED_REFERENCES)}, got {feed_reference!r}"
+        )
+    rapid = data.get("rapid_mm_min", base.rapid_mm_min)
+    if not isinstance(rapid, int | float) or not rapid > 0:
+        raise ConfigError(f"{source}: rapid_mm_min must be a positive number")
+    return Machine(
+        name=str(data.get("name", base.name)),
+        rapid_mm_min=float(rapid),
+        axes=tuple((k, axes[k]) for k in ("X", "Y", "Z")),
+        feed_reference=str(feed_reference),
+    )
+
+
+def load_machine(path: str | Path) -> Machine:
+    """Load a machine TOML file (design.md §3.1b)."""
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"cannot read machine file {p}: {exc.strerror}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
+    return machine_from_dict(data, str(p))

@@ -1,0 +1,164 @@
+"""One error tree for trcopt, and the diagnostics (controller alarms, warnings) with source spans.
+
+Every failure a user can cause (a bad program, a bad machine file, an infeasible problem) is a
+``TrcoptError``; leaves also inherit the matching builtin so ``except ValueError`` keeps working.
+Controller alarms are :class:`Diagnostic` values; an error-severity diagnostic stops a plan the way
+the controller would (:class:`AlarmError` carries it).
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+__all__ = [
+    "Severity",
+    "SourceSpan",
+    "Diagnostic",
+    "TrcoptError",
+    "NcSyntaxError",
+    "NcUnsupportedError",
+    "ConfigError",
+    "GeometryError",
+    "AlarmError",
+    "SolverError",
+    "TimingError",
+]
+
+
+class Severity(enum.Enum):
+    """How serious a diagnostic is: ``ERROR`` stops the plan, the others are collected."""
+
+    INFO = "info"
+    WARNING = "warning"
+    ERROR = "error"
+
+
+@dataclass(frozen=True, slots=True)
+class SourceSpan:
+    """Where something came from: file, 1-based line and column, and the block number (``N60``)."""
+
+    file: str = "<program>"
+    line: int = 0
+    column: int = 0
+    block: str | None = None
+    end_column: int | None = None
+
+    def label(self) -> str:
+        """``file:line:col`` as compilers print it."""
+        return f"{self.file}:{self.line}:{self.column}"
+
+    def block_label(self) -> str:
+        """The block number if there is one, else ``line <n>``."""
+        return self.block if self.block else f"line {self.line}"
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    """A controller alarm, warning or note tied to a source span.
+
+    ``code`` is a stable string (the alarm number for controller alarms, e.g. ``"10763"``, or a
+    trcopt code such as ``"TRC-CONTOUR-VIOLATION"``); ``alarm`` is the controller's number when
+    there is one.
+    """
+
+    severity: Severity
+    code: str
+    message: str
+    span: SourceSpan = field(default_factory=SourceSpan)
+    alarm: int | None = None
+
+    def format(self) -> str:
+        """Compiler-style one-liner: ``prog.mpf:6:1: warning 10763 (N60): message``."""
+        kind = self.severity.value
+        code = str(self.alarm) if self.alarm is not None else self.code
+        block = f" ({self.span.block})" if self.span.block else ""
+        return f"{self.span.label()}: {kind} {code}{block}: {self.message}"
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "severity": self.severity.value,
+            "code": self.code,
+            "alarm": self.alarm,
+            "message": self.message,
+            "line": self.span.line,
+            "column": self.span.column,
+            "block": self.span.block,
+        }
+
+
+def alarm(number: int, message: str, span: SourceSpan, severity: Severity = Severity.ERROR) -> Diagnostic:
+    """A controller alarm with its number as code."""
+    return Diagnostic(severity, str(number), message, span, number)
+
+
+class TrcoptError(Exception):
+    """Root of every error trcopt raises on purpose."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "TRCOPT") -> None:
+        super().__init__(message)
+        self.message = message
+        self.span = span
+        self.code = code
+
+    def __str__(self) -> str:
+        if self.span is not None and self.span.line:
+            block = f" ({self.span.block})" if self.span.block else ""
+            return f"{self.span.label()}{block}: {self.message}"
+        return self.message
+
+    def to_diagnostic(self) -> Diagnostic:
+        return Diagnostic(Severity.ERROR, self.code, self.message, self.span or SourceSpan())
+
+
+class NcSyntaxError(TrcoptError, ValueError):
+    """The part program cannot be read (bad word, bad number, unbalanced brackets, truncated)."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "NC-SYNTAX") -> None:
+        super().__init__(message, span, code)
+
+
+class NcUnsupportedError(TrcoptError, NotImplementedError):
+    """The program uses a feature trcopt does not implement (named in the message)."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "NC-UNSUPPORTED") -> None:
+        super().__init__(message, span, code)
+
+
+class ConfigError(TrcoptError, ValueError):
+    """A machine, tool-table or settings file is invalid (names the key)."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "CONFIG") -> None:
+        super().__init__(message, span, code)
+
+
+class GeometryError(TrcoptError, ValueError):
+    """Invalid geometry (zero-length element, arc whose end radius does not match, ...)."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "GEOMETRY") -> None:
+        super().__init__(message, span, code)
+
+
+class AlarmError(TrcoptError, RuntimeError):
+    """An error-severity controller alarm stopped the plan; ``diagnostic`` holds it."""
+
+    def __init__(self, diagnostic: Diagnostic) -> None:
+        super().__init__(diagnostic.message, diagnostic.span, diagnostic.code)
+        self.diagnostic = diagnostic
+
+    def to_diagnostic(self) -> Diagnostic:
+        return self.diagnostic
+
+
+class SolverError(TrcoptError, RuntimeError):
+    """An optimisation problem failed (infeasible, solver error); names the binding constraint."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "SOLVER") -> None:
+        super().__init__(message, span, code)
+
+
+class TimingError(TrcoptError, RuntimeError):
+    """Time parameterisation failed for a section (names section, s and source block)."""
+
+    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "TIMING") -> None:
+        super().__init__(message, span, code)

@@ -1,0 +1,254 @@
+"""Polynomial and other smooth curves (KONTT/KONTC polynomials, DISC conics, variable-radius spirals).
+
+A :class:`Poly` keeps an adaptive sampling of its defining function (chord error ≤ ``chord_tol``,
+1 µm by default) together with the exact unit tangent at each sample; between samples it is
+evaluated by cubic Hermite interpolation in arc length, so it is tangent-continuous for timing and
+exact at every sample.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from . import vec
+from .vec import Vec2
+
+Vec3 = tuple[float, float, float]
+
+__all__ = ["Poly", "hermite_curve", "conic_curve", "spiral_curve"]
+
+CHORD_TOL_MM = 1e-3
+
+
+@dataclass(frozen=True, slots=True)
+class Poly:
+    """Smooth curve given by samples (points, unit tangents, cumulative 3D arc length)."""
+
+    points: tuple[Vec3, ...]
+    tangents: tuple[Vec3, ...]
+    cum: tuple[float, ...]
+    label: str = "poly"
+
+    @property
+    def start(self) -> Vec3:
+        return self.points[0]
+
+    @property
+    def end(self) -> Vec3:
+        return self.points[-1]
+
+    @property
+    def length(self) -> float:
+        return self.cum[-1]
+
+    @property
+    def plane_length(self) -> float:
+        return sum(
+            math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(self.points, self.points[1:], strict=False)
+        )
+
+    def _t2(self, t: Vec3) -> Vec2:
+        return vec.unit((t[0], t[1]))
+
+    def start_tangent(self) -> Vec2:
+        return self._t2(self.tangents[0])
+
+    def end_tangent(self) -> Vec2:
+        return self._t2(self.tangents[-1])
+
+    def point2(self, lam: float) -> Vec2:
+        p = self.point(lam * self.length)
+        return (p[0], p[1])
+
+    def _locate(self, s: float) -> tuple[int, float, float]:
+        s = min(max(s, 0.0), self.cum[-1])
+        i = min(max(bisect.bisect_right(self.cum, s) - 1, 0), len(self.cum) - 2)
+        h = self.cum[i + 1] - self.cum[i]
+        return i, h, (s - self.cum[i]) / h if h > 0 else 0.0
+
+    def point(self, s: float) -> Vec3:
+        return self.derivatives(s)[0]
+
+    def derivatives(self, s: float) -> tuple[Vec3, Vec3, Vec3]:
+        """Cubic Hermite interpolation in arc length between samples."""
+        i, h, t = self._locate(s)
+        p0, p1 = self.points[i], self.points[i + 1]
+        m0, m1 = self.tangents[i], self.tangents[i + 1]
+        t2, t3 = t * t, t * t * t
+        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+        d00, d10, d01, d11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
+        e00, e10, e01, e11 = 12 * t - 6, 6 * t - 4, -12 * t + 6, 6 * t - 2
+        p = tuple(h00 * a + h10 * h * c + h01 * b + h11 * h * d for a, b, c, d in zip(p0, p1, m0, m1, strict=True))
+        hh = h if h > 0 else 1.0
+        d1 = tuple(
+            (d00 * a + d10 * h * c + d01 * b + d11 * h * d) / hh for a, b, c, d in zip(p0, p1, m0, m1, strict=True)
+        )
+        d2 = tuple(
+            (e00 * a + e10 * h * c + e01 * b + e11 * h * d) / (hh * hh)
+            for a, b, c, d in zip(p0, p1, m0, m1, strict=True)
+        )
+        return (p[0], p[1], p[2]), (d1[0], d1[1], d1[2]), (d2[0], d2[1], d2[2])
+
+    def reversed(self) -> Poly:
+        total = self.cum[-1]
+        return Poly(
+            tuple(reversed(self.points)),
+            tuple((-t[0], -t[1], -t[2]) for t in reversed(self.tangents)),
+            tuple(total - c for c in reversed(self.cum)),
+            self.label,
+        )
+
+    def distance2(self, p: Vec2) -> float:
+        best = math.inf
+        for a, b in zip(self.points, self.points[1:], strict=False):
+            d = (b[0] - a[0], b[1] - a[1])
+            dd = d[0] * d[0] + d[1] * d[1]
+            t = 0.0 if dd == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd))
+            best = min(best, math.hypot(p[0] - a[0] - t * d[0], p[1] - a[1] - t * d[1]))
+        return best
+
+    def polyline2(self) -> list[Vec2]:
+        return [(p[0], p[1]) for p in self.points]
+
+    def sample_points(self) -> list[Vec3]:
+        return list(self.points)
+
+    def sub_s(self, s0: float, s1: float) -> Poly:
+        """The piece between arc lengths s0 < s1 (resampled at the stored samples)."""
+        keep = [i for i, c in enumerate(self.cum) if s0 < c < s1]
+        pts = [self.point(s0)] + [self.points[i] for i in keep] + [self.point(s1)]
+        tans = [_unit3(self.derivatives(s0)[1])] + [self.tangents[i] for i in keep] + [
+            _unit3(self.derivatives(s1)[1])
+        ]
+        cum = [0.0] + [self.cum[i] - s0 for i in keep] + [s1 - s0]
+        return Poly(tuple(pts), tuple(tans), tuple(cum), self.label)
+
+
+def _unit3(a: Vec3) -> Vec3:
+    n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    return (a[0] / n, a[1] / n, a[2] / n) if n > 0 else (0.0, 0.0, 0.0)
+
+
+def _sample(
+    f: Callable[[float], Vec3], df: Callable[[float], Vec3], label: str, tol: float = CHORD_TOL_MM / 2
+) -> Poly:
+    """Adaptive sampling of a parametric curve on u ∈ [0, 1] to a chord error ≤ tol."""
+    us = [0.0, 1.0]
+    pts = {0.0: f(0.0), 1.0: f(1.0)}
+    stack = [(0.0, 1.0, 0)]
+    final: list[float] = [0.0]
+    while stack:
+        a, b, depth = stack.pop()
+        m = 0.5 * (a + b)
+        pa, pb, pm = pts[a], pts[b], f(m)
+        pts[m] = pm
+        chord_mid = tuple(0.5 * (x + y) for x, y in zip(pa, pb, strict=True))
+        err = math.dist(chord_mid, pm)
+        if (err > tol or depth < 3) and depth < 24:
+            stack.append((m, b, depth + 1))
+            stack.append((a, m, depth + 1))
+        else:
+            final.append(m)
+            final.append(b)
+    us = sorted(set(final))
+    points = [pts[u] if u in pts else f(u) for u in us]
+    cum = [0.0]
+    for p, q in zip(points, points[1:], strict=False):
+        # chord length refined by the mid-point (Simpson-like), exact to O(h^4)
+        cum.append(cum[-1] + math.dist(p, q))
+    tangents = [_unit3(df(u)) for u in us]
+    return Poly(tuple(points), tuple(tangents), tuple(cum), label)
+
+
+def hermite_curve(
+    p0: Vec3, d0: Vec3, p1: Vec3, d1: Vec3, a0: Vec3 | None = None, a1: Vec3 | None = None, label: str = "hermite"
+) -> Poly:
+    """Cubic (no accelerations given) or quintic Hermite polynomial from p0 to p1, u ∈ [0, 1].
+
+    ``d0``/``d1`` are derivatives dP/du at the ends; ``a0``/``a1`` second derivatives (quintic).
+    """
+    if a0 is None or a1 is None:
+
+        def f(u: float) -> Vec3:
+            h00, h10 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u
+            h01, h11 = -2 * u**3 + 3 * u**2, u**3 - u**2
+            return tuple(h00 * a + h10 * b + h01 * c + h11 * d for a, b, c, d in zip(p0, d0, p1, d1, strict=True))  # type: ignore[return-value]
+
+        def df(u: float) -> Vec3:
+            g00, g10 = 6 * u**2 - 6 * u, 3 * u**2 - 4 * u + 1
+            g01, g11 = -6 * u**2 + 6 * u, 3 * u**2 - 2 * u
+            return tuple(g00 * a + g10 * b + g01 * c + g11 * d for a, b, c, d in zip(p0, d0, p1, d1, strict=True))  # type: ignore[return-value]
+
+        return _sample(f, df, label)
+
+    def fq(u: float) -> Vec3:
+        u2, u3, u4, u5 = u * u, u**3, u**4, u**5
+        b = (
+            1 - 10 * u3 + 15 * u4 - 6 * u5,
+            u - 6 * u3 + 8 * u4 - 3 * u5,
+            0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5,
+            0.5 * u3 - u4 + 0.5 * u5,
+            -4 * u3 + 7 * u4 - 3 * u5,
+            10 * u3 - 15 * u4 + 6 * u5,
+        )
+        return tuple(  # type: ignore[return-value]
+            b[0] * P0 + b[1] * D0 + b[2] * A0 + b[3] * A1 + b[4] * D1 + b[5] * P1
+            for P0, D0, A0, A1, D1, P1 in zip(p0, d0, a0, a1, d1, p1, strict=True)
+        )
+
+    def dfq(u: float) -> Vec3:
+        u2, u3, u4 = u * u, u**3, u**4
+        b = (
+            -30 * u2 + 60 * u3 - 30 * u4,
+            1 - 18 * u2 + 32 * u3 - 15 * u4,
+            u - 4.5 * u2 + 6 * u3 - 2.5 * u4,
+            1.5 * u2 - 4 * u3 + 2.5 * u4,
+            -12 * u2 + 28 * u3 - 15 * u4,
+            30 * u2 - 60 * u3 + 30 * u4,
+        )
+        return tuple(  # type: ignore[return-value]
+            b[0] * P0 + b[1] * D0 + b[2] * A0 + b[3] * A1 + b[4] * D1 + b[5] * P1
+            for P0, D0, A0, A1, D1, P1 in zip(p0, d0, a0, a1, d1, p1, strict=True)
+        )
+
+    return _sample(fq, dfq, label)
+
+
+def conic_curve(q0: Vec2, q1: Vec2, q2: Vec2, weight: float, w: float, label: str = "conic") -> Poly:
+    """Rational quadratic Bézier with control points q0, q1, q2 and middle weight ``weight``."""
+
+    def f(u: float) -> Vec3:
+        b0, b1, b2 = (1 - u) ** 2, 2 * u * (1 - u) * weight, u * u
+        den = b0 + b1 + b2
+        return ((b0 * q0[0] + b1 * q1[0] + b2 * q2[0]) / den, (b0 * q0[1] + b1 * q1[1] + b2 * q2[1]) / den, w)
+
+    def df(u: float) -> Vec3:
+        h = 1e-7
+        a, b = f(max(0.0, u - h)), f(min(1.0, u + h))
+        return (b[0] - a[0], b[1] - a[1], 0.0)
+
+    return _sample(f, df, label)
+
+
+def spiral_curve(
+    center: Vec2, r0: float, r1: float, a0: float, sweep: float, w0: float, w1: float, label: str = "spiral"
+) -> Poly:
+    """Archimedean spiral: radius linear in angle from r0 to r1 over ``sweep``; w linear."""
+
+    def f(u: float) -> Vec3:
+        a, r = a0 + u * sweep, r0 + u * (r1 - r0)
+        return (center[0] + r * math.cos(a), center[1] + r * math.sin(a), w0 + u * (w1 - w0))
+
+    def df(u: float) -> Vec3:
+        a, r = a0 + u * sweep, r0 + u * (r1 - r0)
+        dr = r1 - r0
+        return (
+            dr * math.cos(a) - r * math.sin(a) * sweep,
+            dr * math.sin(a) + r * math.cos(a) * sweep,
+            w1 - w0,
+        )
+
+    return _sample(f, df, label)
