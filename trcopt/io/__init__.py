@@ -1,0 +1,24 @@
+"""Output writers: plan JSON, tool-centre G-code, SVG preview, DXF (optional ``trcopt[dxf]``).
+
+Importing this package stays cheap: ezdxf (and matplotlib, for plots elsewhere) load inside the
+functions that need them.
+"""
+
+from __future__ import annotations
+
+from .atomic import OutputError, write_text_atomic
+from .gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
+from .plan_json import PLAN_SCHEMA, PlanJsonError, dumps_plan, plan_json, write_plan_json
+
+__all__ = [
+    "GcodeError",
+    "OutputError",
+    "PLAN_SCHEMA",
+    "PlanJsonError",
+    "check_gcode_arcs",
+    "dumps_plan",
+    "plan_json",
+    "toolpath_to_gcode",
+    "write_plan_json",
+    "write_text_atomic",
+]

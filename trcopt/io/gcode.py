@@ -1,0 +1,364 @@
+"""Plain tool-centre G-code (G40 only) for controllers without radius compensation.
+
+One output block per segment: ``G0`` for rapids, ``G1`` for lines, ``G2``/``G3`` for arcs and
+helices (centre words I/J/K incremental from the start point), a run of ``G1`` chords for polys.
+Every block names its source in a comment (``; N60 L6 corner`` for Siemens, ``(N60 L6 corner)``
+for RS274/LinuxCNC).
+
+Arcs are re-checked **after rounding**, with the numbers the controller will read: the start is
+the position last written, the end the rounded end, the centre the start plus the rounded
+centre offset. If the two radii differ by more than ``arc_tolerance_mm / 2`` the centre is moved
+onto the perpendicular bisector of the rounded chord (the point of the bisector nearest the exact
+centre, so sense and side are kept), rounded and checked again; if that still fails the block is
+written with more decimals (up to 6); an arc that cannot be made consistent even then (too
+short/flat) is written as ``G1``. :func:`check_gcode_arcs` is an independent re-reader of the
+programs this module writes.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+from ..errors import TrcoptError
+from ..geometry.plane import Plane
+from ..geometry.poly import Poly
+from ..geometry.primitives import Arc, Line
+from ..path import Segment
+from ..units import mm_s_to_mm_min
+
+__all__ = ["GcodeError", "toolpath_to_gcode", "check_gcode_arcs", "FLAVORS"]
+
+FLAVORS = ("siemens", "rs274")
+MAX_DECIMALS = 6
+
+Vec3 = tuple[float, float, float]
+
+# centre word letter for each workpiece axis (x, y, z)
+_CENTRE_WORDS = ("I", "J", "K")
+
+
+class GcodeError(TrcoptError, ValueError):
+    """Invalid writer option or a segment that cannot be written."""
+
+    def __init__(self, message: str, code: str = "GCODE") -> None:
+        super().__init__(message, None, code)
+
+
+def _fmt(value: float, decimals: int, flavor: str) -> str:
+    """Fixed-point number without trailing zeros; RS274 keeps a decimal point (``5.0``)."""
+    text = f"{value:.{decimals}f}"
+    if "." in text:
+        text = text.rstrip("0").rstrip(".")
+    if text in ("-0", ""):
+        text = "0"
+    if flavor == "rs274" and "." not in text:
+        text += ".0"
+    return text
+
+
+def _round(value: float, decimals: int) -> float:
+    """The value the controller reads from the written word."""
+    return float(f"{value:.{decimals}f}") + 0.0
+
+
+def _rs274_comment_text(text: str) -> str:
+    # RS274NGC comments cannot contain parentheses; keep them on one line
+    return text.replace("(", "[").replace(")", "]").replace("\n", " ").replace("\r", " ")
+
+
+@dataclass
+class _Writer:
+    flavor: str
+    decimals: int
+    tolerance: float
+    lines: list[str]
+    pos: list[float | None]  # modal position as written (rounded), x y z
+    feed: float | None = None  # last written feed, mm/min
+    plane: Plane | None = None
+    number: int = 0
+
+    # -- block assembly -------------------------------------------------------------------------
+    def comment(self, text: str) -> str:
+        if self.flavor == "siemens":
+            return f"; {text}"
+        return f"({_rs274_comment_text(text)})"
+
+    def emit(self, words: list[str], note: str | None = None) -> None:
+        parts = list(words)
+        if self.flavor == "siemens":
+            self.number += 10
+            parts.insert(0, f"N{self.number}")
+        line = " ".join(parts)
+        if note:
+            line += " " + self.comment(note)
+        self.lines.append(line)
+
+    def num(self, value: float, decimals: int | None = None) -> str:
+        return _fmt(value, self.decimals if decimals is None else decimals, self.flavor)
+
+    def feed_word(self, feed_mm_s: float | None) -> list[str]:
+        if feed_mm_s is None:
+            return []
+        f = _round(mm_s_to_mm_min(feed_mm_s), 3)
+        if self.feed is not None and f == self.feed:
+            return []
+        self.feed = f
+        return [f"F{_fmt(f, 3, self.flavor)}"]
+
+    def axis_words(self, xyz: Vec3, decimals: int, force: Sequence[int] = ()) -> list[str]:
+        """Words for the axes whose rounded value differs from the modal position (or forced)."""
+        words = []
+        for i, name in enumerate("XYZ"):
+            r = _round(xyz[i], decimals)
+            if self.pos[i] is None or r != self.pos[i] or i in force:
+                words.append(f"{name}{self.num(xyz[i], decimals)}")
+                self.pos[i] = r
+        return words
+
+    def plane_words(self, plane: Plane) -> list[str]:
+        if plane is self.plane:
+            return []
+        self.plane = plane
+        return [plane.value]
+
+    # -- motions --------------------------------------------------------------------------------
+    def straight(self, g: str, end: Vec3, feed_mm_s: float | None, note: str | None) -> bool:
+        axes = self.axis_words(end, self.decimals)
+        if not axes:
+            return False
+        words = [g, *axes]
+        if g != "G0":
+            words += self.feed_word(feed_mm_s)
+        self.emit(words, note)
+        return True
+
+
+def _source_note(seg: Segment) -> str:
+    parts = []
+    if seg.span.block:
+        parts.append(str(seg.span.block))
+    if seg.span.line:
+        parts.append(f"L{seg.span.line}")
+    parts.append(seg.role.value)
+    return " ".join(parts)
+
+
+def _split_arc(arc: Arc, pieces: int) -> list[Arc]:
+    return [arc.sub(k / pieces, (k + 1) / pieces) for k in range(pieces)]
+
+
+def _arc_block(
+    w: _Writer, plane: Plane, arc: Arc, feed_mm_s: float | None, note: str | None, depth: int = 0
+) -> bool:
+    """Write one arc piece (|sweep| < 360°) with the after-rounding check; True if written."""
+    ui, vi, wi = plane.axes
+    end_xyz = plane.to_xyz(arc.end)
+    start_xyz = plane.to_xyz(arc.start)
+    # the controller starts where the last block ended (as written)
+    s_xyz = [w.pos[i] if w.pos[i] is not None else _round(start_xyz[i], w.decimals) for i in range(3)]
+    s_u, s_v = s_xyz[ui], s_xyz[vi]
+    cu, cv = arc.center
+    sense = 1 if arc.sweep > 0 else -1
+    tol_half = w.tolerance / 2.0
+
+    if arc.plane_length < 10.0**-w.decimals:
+        # shorter than the output resolution: a straight move is exact to the written digits
+        return w.straight("G1", end_xyz, feed_mm_s, note)
+    for d in range(w.decimals, MAX_DECIMALS + 1):
+        e_u, e_v = _round(end_xyz[ui], d), _round(end_xyz[vi], d)
+        chord = math.hypot(e_u - s_u, e_v - s_v)
+        if chord == 0.0:
+            continue
+        candidates = [(cu, cv)]
+        # nearest point of the perpendicular bisector of the rounded chord to the exact centre
+        mu, mv = 0.5 * (s_u + e_u), 0.5 * (s_v + e_v)
+        nu, nv = -(e_v - s_v) / chord, (e_u - s_u) / chord
+        h = (cu - mu) * nu + (cv - mv) * nv
+        candidates.append((mu + h * nu, mv + h * nv))
+        for c_u, c_v in candidates:
+            i_off, j_off = _round(c_u - s_u, d), _round(c_v - s_v, d)
+            rc_u, rc_v = s_u + i_off, s_v + j_off
+            r0 = math.hypot(s_u - rc_u, s_v - rc_v)
+            r1 = math.hypot(e_u - rc_u, e_v - rc_v)
+            if r0 == 0.0 or abs(r0 - r1) > tol_half:
+                continue
+            # the controller's arc must be the intended one: its points stay within the position
+            # rounding (plus the tolerance) of the exact arc; a nearly closed arc must not wrap
+            a0 = math.atan2(s_v - rc_v, s_u - rc_u)
+            a1 = math.atan2(e_v - rc_v, e_u - rc_u)
+            sweep = (a1 - a0) % (2 * math.pi) if sense > 0 else -((a0 - a1) % (2 * math.pi))
+            if sweep == 0.0:
+                continue
+            slack = w.tolerance + 10.0**-w.decimals
+            if any(
+                arc.distance2((rc_u + r0 * math.cos(a0 + f * sweep), rc_v + r0 * math.sin(a0 + f * sweep))) > slack
+                for f in (0.25, 0.5, 0.75)
+            ):
+                continue
+            words = w.plane_words(plane)
+            words.append("G3" if sense > 0 else "G2")
+            force = (ui, vi)
+            words += w.axis_words(end_xyz, d, force=force)
+            offs = {ui: i_off, vi: j_off}
+            words += [f"{_CENTRE_WORDS[k]}{w.num(offs[k], d)}" for k in sorted(offs)]
+            words += w.feed_word(feed_mm_s)
+            w.emit(words, note)
+            return True
+    # cannot be written consistently: a nearly closed arc is split, a short/flat one becomes G1
+    if abs(arc.sweep) > math.pi / 2 and depth < 4:
+        first, second = _split_arc(arc, 2)
+        done = _arc_block(w, plane, first, feed_mm_s, note, depth + 1)
+        return _arc_block(w, plane, second, feed_mm_s, None if done else note, depth + 1) or done
+    return w.straight("G1", end_xyz, feed_mm_s, note)
+
+
+def _write_segment(w: _Writer, seg: Segment) -> None:
+    g = seg.geometry
+    note = _source_note(seg)
+    plane = seg.plane
+    if any(c is None for c in w.pos):
+        # the controller's position is unknown: the path starts with a rapid to its start point
+        w.straight("G0", seg.start_xyz, None, f"start of path, {note}")
+    if isinstance(g, Line):
+        w.straight("G0" if seg.is_rapid else "G1", seg.end_xyz, seg.feed_mm_s, note)
+        return
+    if isinstance(g, Poly):
+        for p in g.points[1:]:
+            if w.straight("G0" if seg.is_rapid else "G1", plane.to_xyz(p), seg.feed_mm_s, note):
+                note = None  # name the source once, on the first chord
+        return
+    if isinstance(g, Arc):
+        start = seg.start_xyz
+        if math.dist([float(c) for c in w.pos], start) > max(w.tolerance, 10.0**-w.decimals):  # type: ignore[arg-type]
+            # the path has a gap: close it so the arc starts where it was planned
+            w.straight("G1", start, seg.feed_mm_s, f"gap before {note}")
+        span = abs(g.sweep)
+        pieces = 1 if span < 2 * math.pi - 1e-12 else max(2, math.ceil(span / math.pi - 1e-9))
+        for piece in _split_arc(g, pieces) if pieces > 1 else [g]:
+            if _arc_block(w, plane, piece, seg.feed_mm_s, note):
+                note = None
+        return
+    raise GcodeError(f"cannot write segment geometry {type(g).__name__}")
+
+
+def toolpath_to_gcode(
+    segments: Iterable[Segment],
+    *,
+    flavor: str = "siemens",
+    decimals: int = 4,
+    arc_tolerance_mm: float = 0.002,
+    program_name: str = "trcopt",
+) -> str:
+    """Plain tool-centre G-code (G40 only) for the tool-centre path ``segments``.
+
+    Parameters
+    ----------
+    segments:
+        Tool-centre path in execution order (absolute workpiece coordinates, mm).
+    flavor:
+        ``"siemens"`` (``;`` comments, N10/N20… block numbers, G71, M30) or ``"rs274"``
+        (LinuxCNC: parenthesised comments, G21, G91.1 incremental centres, M2).
+    decimals:
+        Decimals of coordinates (mm); arcs may get more (up to 6) when the rounded numbers would
+        not describe a consistent arc.
+    arc_tolerance_mm:
+        Largest difference between start and end radius the controller will accept, mm; the
+        writer keeps its own arcs within half of it.
+    program_name:
+        Name of the source program, written in the header comment.
+
+    Returns
+    -------
+    str
+        The program text, one block per line, ending with a newline.
+    """
+    if flavor not in FLAVORS:
+        raise GcodeError(f"invalid G-code flavor {flavor!r}; valid: {', '.join(FLAVORS)}")
+    if not 0 <= int(decimals) <= MAX_DECIMALS:
+        raise GcodeError(f"decimals must be in 0..{MAX_DECIMALS}, got {decimals}")
+    if not arc_tolerance_mm > 0.0:
+        raise GcodeError(f"arc_tolerance_mm must be > 0, got {arc_tolerance_mm}")
+    segs = list(segments)
+    w = _Writer(flavor, int(decimals), float(arc_tolerance_mm), [], [None, None, None])
+    w.lines.append(w.comment(f"trcopt tool-centre path of {program_name}"))
+    w.lines.append(w.comment("G40 only: coordinates are the tool centre, no radius compensation"))
+    first = next((s for s in segs if isinstance(s.geometry, Arc)), segs[0] if segs else None)
+    w.plane = first.plane if first is not None else Plane.G17
+    if flavor == "siemens":
+        w.emit(["G71", "G90", "G94", "G40", w.plane.value])
+    else:
+        w.emit(["G21", "G90", "G94", "G91.1", "G40", w.plane.value])
+    for seg in segs:
+        _write_segment(w, seg)
+    w.emit(["M30" if flavor == "siemens" else "M2"])
+    return "\n".join(w.lines) + "\n"
+
+
+# --------------------------------------------------------------------------------------------
+# independent re-reader
+# --------------------------------------------------------------------------------------------
+
+_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
+_PLANE_AXES = {"G17": (0, 1), "G18": (2, 0), "G19": (1, 2)}
+
+
+def _strip_comment(line: str) -> str:
+    line = re.sub(r"\([^)]*\)", " ", line)
+    return line.split(";", 1)[0]
+
+
+def check_gcode_arcs(text: str, tolerance_mm: float = 0.002) -> list[str]:
+    """Re-read G-code and report arcs whose start and end radius differ by more than a tolerance.
+
+    Reads the subset this module writes: absolute coordinates, G0/G1/G2/G3, G17/G18/G19, centre
+    words I/J/K incremental from the start, ``;`` and ``( )`` comments, N numbers. Returns one
+    message per bad arc (``line 12: G2 radius 10.0021 at start, 10.0000 at end (diff 0.0021 mm)``);
+    an arc whose start equals its end, or whose centre equals its start, is reported too.
+    """
+    pos: list[float | None] = [None, None, None]
+    plane = "G17"
+    motion: str | None = None
+    problems: list[str] = []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        body = _strip_comment(raw).upper()
+        words = _WORD.findall(body)
+        if not words:
+            continue
+        gs = [float(v) for k, v in words if k == "G"]
+        for gv in gs:
+            name = f"G{gv:g}"
+            if name in _PLANE_AXES:
+                plane = name
+            elif name in ("G0", "G1", "G2", "G3"):
+                motion = name
+        values = {k: float(v) for k, v in words if k in "XYZIJK"}
+        has_axes = any(k in values for k in "XYZ")
+        if not has_axes:
+            continue
+        start = list(pos)
+        end = [values.get(n, pos[i]) for i, n in enumerate("XYZ")]
+        if motion in ("G2", "G3"):
+            a, b = _PLANE_AXES[plane]
+            if start[a] is None or start[b] is None:
+                problems.append(f"line {lineno}: {motion} from an unknown position")
+            else:
+                sa, sb = float(start[a]), float(start[b])  # type: ignore[arg-type]
+                ea, eb = float(end[a]), float(end[b])  # type: ignore[arg-type]
+                ca = sa + values.get(_CENTRE_WORDS[a], 0.0)
+                cb = sb + values.get(_CENTRE_WORDS[b], 0.0)
+                r0 = math.hypot(sa - ca, sb - cb)
+                r1 = math.hypot(ea - ca, eb - cb)
+                if abs(r0 - r1) > tolerance_mm:
+                    problems.append(
+                        f"line {lineno}: {motion} radius {r0:.6f} at start, {r1:.6f} at end "
+                        f"(diff {abs(r0 - r1):.6f} mm)"
+                    )
+                elif r0 == 0.0:
+                    problems.append(f"line {lineno}: {motion} with zero radius")
+                elif sa == ea and sb == eb:
+                    problems.append(f"line {lineno}: {motion} start equals end (full circle)")
+        pos = end
+    return problems
