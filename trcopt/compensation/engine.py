@@ -1,0 +1,603 @@
+"""The SINUMERIK-style 2D tool radius compensation engine (spec R1–R30).
+
+The engine streams: it reads canonical moves one by one and keeps only a bounded look-ahead window
+(MD20240 blocks) plus the previous resolved block, so memory does not grow with program length.
+
+Per compensation region (selection block … deselection block) the blocks are numbered: 0 is the
+selection (approach) block, then the contour blocks, then the deselection (retract) block. Each
+block's tool-centre *chain* (inserted elements + its offset) is resolved at its end against the
+next block (corner rules), against later blocks (predictive search, CDON bottleneck detection)
+and, when nothing is found, against the previous block (CDOF backward search) — then emitted.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+
+from ..config import TrcSettings
+from ..errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
+from ..geometry import vec
+from ..geometry.intersect import intersections
+from ..geometry.primitives import Line
+from ..geometry.vec import Vec2
+from ..nc.model import ApproachMode, ApproachStrategy, CollisionMode, Move, MoveKind, Side
+from ..path import Role, Segment
+from . import corners as cn
+from .elements import Elem, ElemKind, Piece, make_programmed_geometry
+
+__all__ = ["compensate", "Compensator"]
+
+LAM_TOL = 1e-9
+
+
+def compensate(
+    moves: Iterable[Move], settings: TrcSettings | None = None, diagnostics: list[Diagnostic] | None = None
+) -> Iterator[Segment]:
+    """Tool-centre segments for canonical moves; diagnostics are appended to ``diagnostics``.
+
+    An error-severity alarm stops the stream (the segments up to the alarm have been yielded).
+    """
+    comp = Compensator(settings or TrcSettings(), diagnostics if diagnostics is not None else [])
+    return comp.run(moves)
+
+
+class _Peekable:
+    def __init__(self, it: Iterator[Move]) -> None:
+        self._it = it
+        self._head: list[Move] = []
+
+    def peek(self) -> Move | None:
+        if not self._head:
+            try:
+                self._head.append(next(self._it))
+            except StopIteration:
+                return None
+        return self._head[0]
+
+    def next(self) -> Move | None:
+        m = self.peek()
+        if m is not None:
+            self._head.pop()
+        return m
+
+
+class _Window:
+    """Look-ahead buffer over the elements of one region."""
+
+    def __init__(self, source: Iterator[Elem]) -> None:
+        self._src = source
+        self._buf: dict[int, Elem] = {}
+        self._hi = -1
+        self._done = False
+
+    def get(self, k: int) -> Elem | None:
+        while k > self._hi and not self._done:
+            try:
+                e = next(self._src)
+            except StopIteration:
+                self._done = True
+                break
+            self._hi += 1
+            self._buf[self._hi] = e
+        return self._buf.get(k)
+
+    def drop_below(self, k: int) -> None:
+        for key in [key for key in self._buf if key < k]:
+            del self._buf[key]
+
+
+@dataclass(slots=True)
+class _Join:
+    """How block i ends and block j starts."""
+
+    j: int
+    next_chain: list[Piece]
+    end: tuple[int, float] | None = None  # trim block i's chain at (piece index, λ)
+    trailing: list[Piece] = field(default_factory=list)
+    replace: list[Piece] | None = None  # replace block i's chain entirely
+    omitted: list[int] = field(default_factory=list)
+    backward: tuple[int, float] | None = None  # trim the previous block's chain here; omit block i
+
+
+def _plane_moving(m: Move, tol: float) -> bool:
+    if m.kind is MoveKind.NONE:
+        return False
+    u, v, _ = m.plane.to_uvw(m.start)
+    u1, v1, _ = m.plane.to_uvw(m.end)
+    if m.kind is MoveKind.ARC:
+        return True
+    return math.hypot(u1 - u, v1 - v) > tol
+
+
+def _side_of(m: Move) -> int:
+    return m.comp.effective_side.sign
+
+
+class Compensator:
+    """Streams canonical moves into tool-centre segments (see module docstring)."""
+
+    def __init__(self, settings: TrcSettings, diagnostics: list[Diagnostic]) -> None:
+        self.settings = settings
+        self.diagnostics = diagnostics
+        self.tol = settings.tolerances.coincidence_mm
+
+    # ------------------------------------------------------------------ driver
+    def run(self, moves: Iterable[Move]) -> Iterator[Segment]:
+        it = _Peekable(iter(moves))
+        try:
+            while True:
+                m = it.next()
+                if m is None:
+                    return
+                if _side_of(m) == 0 or not _plane_moving(m, self.tol):
+                    yield from self._passthrough(m)
+                    continue
+                yield from self._region(m, it)
+        except AlarmError as exc:
+            self.diagnostics.append(exc.diagnostic)
+
+    def _alarm(self, number: int, message: str, span: SourceSpan) -> AlarmError:
+        return AlarmError(alarm(number, message, span))
+
+    def _warn(self, code: str, message: str, span: SourceSpan, number: int | None = None) -> None:
+        if number == 10763 and self.settings.suppress_10763:
+            return
+        self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span, number))
+
+    def _passthrough(self, m: Move) -> Iterator[Segment]:
+        if m.kind is MoveKind.NONE or m.start == m.end and m.kind is not MoveKind.ARC:
+            return
+        geom = make_programmed_geometry(m)
+        if m.kind is MoveKind.RAPID:
+            role = Role.RAPID
+        elif geom.plane_length <= self.tol and m.kind is MoveKind.LINE:
+            role = Role.POSITIONING
+        else:
+            role = Role.CONTOUR
+        yield Segment(geom, m.plane, role, m.span, m.feed_mm_s)
+
+    # ------------------------------------------------------------------ region elements
+    def _elements(self, first: Move, it: _Peekable) -> Iterator[Elem]:
+        s = _side_of(first)
+        radius = first.comp.effective_radius
+        if first.kind is MoveKind.ARC:
+            raise self._alarm(10753, "tool radius compensation selected in a circular block (G2/G3)", first.span)
+        if not first.comp.tool_active:
+            raise self._alarm(10750, "tool radius compensation selected without an active tool (T/D)", first.span)
+        yield Elem(0, ElemKind.APPROACH, first, make_programmed_geometry(first), s, 0.0, radius)
+        index = 0
+        dummies: list[Move] = []
+        prev_r = radius
+        while True:
+            m = it.next()
+            if m is None:
+                return
+            if not _plane_moving(m, self.tol):
+                if m.plane is not first.plane and m.comp.side is not Side.OFF:
+                    raise self._alarm(10757, "plane change while tool radius compensation is active", m.span)
+                dummies.append(m)
+                limit = self.settings.cutcom_maxnum_dummy_blocks
+                if sum(1 for d in dummies if d.kind is not MoveKind.NONE or d.actions) > limit:
+                    raise self._alarm(
+                        10762, f"too many blocks without plane motion in a row (> MD20250 = {limit})", m.span
+                    )
+                continue
+            index += 1
+            geom = make_programmed_geometry(m)
+            if _side_of(m) == 0:
+                if m.kind is MoveKind.ARC:
+                    raise self._alarm(10754, "tool radius compensation deselected in a circular block", m.span)
+                yield Elem(index, ElemKind.RETRACT, m, geom, s, prev_r, 0.0, dummies)
+                return
+            if m.plane is not first.plane:
+                raise self._alarm(10757, "plane change while tool radius compensation is active", m.span)
+            if _side_of(m) != s:
+                raise AlarmError(
+                    Diagnostic(
+                        Severity.ERROR,
+                        "TRC-SIDE-CHANGE",
+                        "compensation side changed (G41↔G42) without G40 in between; program G40 first",
+                        m.span,
+                    )
+                )
+            r = m.comp.effective_radius
+            elem = Elem(index, ElemKind.CONTOUR, m, geom, s, prev_r, r, dummies)
+            if elem.variable and elem.degenerate:
+                raise self._alarm(
+                    10758, "curvature radius too small for the variable compensation value", m.span
+                )
+            yield elem
+            prev_r = r
+            dummies = []
+
+    # ------------------------------------------------------------------ region processing
+    def _region(self, first: Move, it: _Peekable) -> Iterator[Segment]:
+        win = _Window(self._elements(first, it))
+        e0 = win.get(0)
+        assert e0 is not None
+        e1 = win.get(1)
+        if e1 is None or e1.kind is ElemKind.RETRACT:
+            # R3.5: G40 right after the selection block — no selection at all
+            yield from self._passthrough(first)
+            if e1 is not None:
+                for d in e1.dummies:
+                    yield from self._passthrough(d)
+                yield from self._passthrough(e1.move)
+            return
+        if e1.degenerate:
+            raise self._alarm(10751, "collision danger: first compensated arc is smaller than the tool", e1.span)
+
+        i = 0
+        chain = [Piece(e0, Role.APPROACH, 0.0, 1.0)]
+        pending: tuple[Elem, list[Piece], list[Elem]] | None = None
+        try:
+            while True:
+                a = win.get(i)
+                assert a is not None
+                b = win.get(i + 1)
+                if b is None:
+                    self._warn(
+                        "TRC-ACTIVE-AT-END",
+                        "program ends with tool radius compensation active (no G40 block)",
+                        a.span,
+                    )
+                    if pending is not None:
+                        yield from self._emit(*pending)
+                        pending = None
+                    yield from self._emit(a, chain, [])
+                    return
+                join = self._junction(win, i, chain, pending)
+                if join.backward is not None and pending is not None:
+                    prev_elem, prev_chain, prev_omitted = pending
+                    self._trim_end(prev_chain, join.backward)
+                    pending = (prev_elem, prev_chain, prev_omitted + [a])
+                    self._omit_warning(a)
+                else:
+                    if join.replace is not None:
+                        chain = join.replace
+                    if join.end is not None:
+                        self._trim_end(chain, join.end)
+                    chain.extend(join.trailing)
+                    col = self._collision(win, i, chain, join.j)
+                    if col is not None:
+                        j2, end, next_chain = col
+                        self._trim_end(chain, end)
+                        join = _Join(j2, next_chain, omitted=list(range(i + 1, j2)))
+                    self._check_reversal(a, chain)
+                    omitted = [win.get(k) for k in join.omitted]
+                    for o in omitted:
+                        assert o is not None
+                        self._omit_warning(o)
+                    if pending is not None:
+                        yield from self._emit(*pending)
+                    pending = (a, chain, [o for o in omitted if o is not None])
+                i = join.j
+                chain = join.next_chain
+                win.drop_below(i - 1)
+                nxt = win.get(i)
+                assert nxt is not None
+                if nxt.kind is ElemKind.RETRACT:
+                    if pending is not None:
+                        yield from self._emit(*pending)
+                        pending = None
+                    yield from self._emit(nxt, chain, [])
+                    return
+        except AlarmError:
+            if pending is not None:
+                yield from self._emit(*pending)
+            raise
+
+    def _omit_warning(self, e: Elem) -> None:
+        self._warn(
+            "10763",
+            "block omitted by collision detection: its plane path is not traversed (bottleneck)",
+            e.span,
+            10763,
+        )
+
+    def _check_reversal(self, a: Elem, chain: list[Piece]) -> None:
+        """R28: an element whose remaining offset runs against its programmed direction."""
+        for p in chain:
+            if p.main and p.lam1 < p.lam0 - LAM_TOL and a.kind is ElemKind.CONTOUR:
+                if self.settings.strict:
+                    raise self._alarm(10751, "collision danger: offset element runs reversed", a.span)
+                self._warn(
+                    "TRC-CONTOUR-VIOLATION",
+                    "possible contour violation: the offset of this block runs against its programmed "
+                    "direction (bottleneck not detected with CDOF; use CDON)",
+                    a.span,
+                )
+
+    @staticmethod
+    def _trim_end(chain: list[Piece], end: tuple[int, float]) -> None:
+        k, lam = end
+        if k < 0:
+            k += len(chain)
+        del chain[k + 1 :]
+        chain[k].lam1 = lam
+        chain[k].p1 = None
+
+    # ------------------------------------------------------------------ junctions
+    def _junction(
+        self, win: _Window, i: int, chain: list[Piece], pending: tuple[Elem, list[Piece], list[Elem]] | None
+    ) -> _Join:
+        a = win.get(i)
+        b = win.get(i + 1)
+        assert a is not None and b is not None
+        if a.kind is ElemKind.APPROACH:
+            return self._approach(a, b)
+        if b.kind is ElemKind.RETRACT:
+            return self._retract(a, b, i)
+        if b.degenerate:
+            return self._search_beyond(win, i, chain, pending, reason="degenerate")
+        kind, delta = cn.classify(a, b, self.settings)
+        if kind is cn.JunctionKind.TANGENTIAL:
+            return _Join(i + 1, [Piece(b, b.role, 0.0, 1.0)])
+        if kind is cn.JunctionKind.OUTSIDE:
+            mode, disc = cn.corner_mode_for(a, b)
+            out = cn.outside_corner(a, b, delta, self.settings, mode, disc)
+            end = None if out.lam_a is None else (len(chain) - 1, out.lam_a)
+            return _Join(i + 1, out.leading + [Piece(b, b.role, out.lam_b, 1.0)], end=end)
+        return self._inside(win, i, chain, pending)
+
+    def _approach(self, a: Elem, b: Elem) -> _Join:
+        p0, p1 = (a.prog.start[0], a.prog.start[1]), (a.prog.end[0], a.prog.end[1])
+        mode = a.comp.approach
+        t1 = b.start_tangent()
+        s_point = b.off_start.point2(0.0)
+        if mode in (ApproachMode.KONTT, ApproachMode.KONTC):
+            if a.move.kind is not MoveKind.LINE:
+                raise AlarmError(
+                    Diagnostic(
+                        Severity.ERROR,
+                        "TRC-KONTT-BLOCK",
+                        f"{mode.value} needs a G1 approach block",
+                        a.span,
+                    )
+                )
+            piece = cn.approach_polynomial(a, b, mode is ApproachMode.KONTC)
+            return _Join(b.index, [Piece(b, b.role, 0.0, 1.0)], replace=[piece])
+        if mode is ApproachMode.KONT and cn.behind(p1, p0, t1, a.side):
+            if vec.dist(p0, p1) <= a.r1:
+                raise self._alarm(10755, "KONT approach not possible: start point within the tool radius", a.span)
+            delta = vec.deflection(vec.unit(vec.sub(p1, p0)), t1)
+            corner, disc = cn.corner_mode_for(a, b)
+            out = cn.outside_corner(a, b, delta, self.settings, corner, disc, arc_owner_is_a=True, arc_role=Role.APPROACH)
+            end = None if out.lam_a is None else (0, out.lam_a)
+            return _Join(b.index, [Piece(b, b.role, out.lam_b, 1.0)], end=end, trailing=out.trailing)
+        # NORM (and KONT in front): straight to S = P1 + R·n1
+        return _Join(b.index, [Piece(b, b.role, 0.0, 1.0)], replace=[Piece(a, Role.APPROACH, 0.0, 1.0, p1=s_point)])
+
+    def _retract(self, a: Elem, b: Elem, i: int) -> _Join:
+        e_pt, t_pt = (b.prog.start[0], b.prog.start[1]), (b.prog.end[0], b.prog.end[1])
+        mode = b.comp.approach
+        t_e = a.end_tangent()
+        if mode in (ApproachMode.KONTT, ApproachMode.KONTC):
+            if b.move.kind is not MoveKind.LINE:
+                raise AlarmError(
+                    Diagnostic(Severity.ERROR, "TRC-KONTT-BLOCK", f"{mode.value} needs a G1 retraction block", b.span)
+                )
+            return _Join(i + 1, [cn.retract_polynomial(a, b, mode is ApproachMode.KONTC)])
+        if mode is ApproachMode.KONT and cn.behind(e_pt, t_pt, t_e, a.side):
+            if vec.dist(t_pt, e_pt) <= b.r0:
+                raise self._alarm(10756, "KONT retraction not possible: end point within the tool radius", b.span)
+            delta = vec.deflection(t_e, vec.unit(vec.sub(t_pt, e_pt)))
+            corner, disc = cn.corner_mode_for(a, b)
+            out = cn.outside_corner(a, b, delta, self.settings, corner, disc, arc_role=Role.RETRACT)
+            end = None if out.lam_a is None else (-1, out.lam_a)
+            return _Join(i + 1, out.leading + [Piece(b, b.role, out.lam_b, 1.0)], end=end)
+        return _Join(i + 1, [Piece(b, Role.RETRACT, 0.0, 1.0, p0=a.off_end.point2(1.0))])
+
+    def _inside(
+        self, win: _Window, i: int, chain: list[Piece], pending: tuple[Elem, list[Piece], list[Elem]] | None
+    ) -> _Join:
+        """R25: inside corner — bounded intersection with the next block (nearest its start)."""
+        b = win.get(i + 1)
+        assert b is not None
+        best: tuple[float, int, float] | None = None
+        for k, piece in enumerate(chain):
+            lo = min(0.0, piece.lam0) if piece.main else None
+            for h in piece.hits(b.off_start, use_end=True, lo=lo):
+                if -LAM_TOL <= h.lam_b <= 1.0 + LAM_TOL and (best is None or h.lam_b < best[0]):
+                    best = (h.lam_b, k, h.lam_a)
+        if best is not None:
+            lam_b, k, lam_a = best
+            return _Join(i + 1, [Piece(b, b.role, max(lam_b, 0.0), 1.0)], end=(k, lam_a))
+        return self._search_beyond(win, i, chain, pending, reason="inside")
+
+    def _search_beyond(
+        self,
+        win: _Window,
+        i: int,
+        chain: list[Piece],
+        pending: tuple[Elem, list[Piece], list[Elem]] | None,
+        reason: str,
+    ) -> _Join:
+        """R25.3/R25.4/R30: predictive search over later blocks, then backwards; else 10751."""
+        a = win.get(i)
+        assert a is not None
+        if reason == "degenerate" and a.comp.collision is not CollisionMode.CDON:
+            b = win.get(i + 1)
+            assert b is not None
+            raise self._alarm(10751, "collision danger: inside arc smaller than the tool radius", b.span)
+        n = self.settings.cutcom_maxnum_check_blocks
+        for j in range(i + 2, i + n + 1):
+            c = win.get(j)
+            if c is None:
+                break
+            if c.degenerate:
+                continue
+            target = self._search_carrier(win, j)
+            best: tuple[float, int, float] | None = None
+            for k, piece in enumerate(chain):
+                for h in piece.hits(target, use_end=True):
+                    if -LAM_TOL <= h.lam_b <= 1.0 + LAM_TOL and (best is None or h.lam_b < best[0]):
+                        best = (h.lam_b, k, h.lam_a)
+            if best is not None:
+                lam_b, k, lam_a = best
+                return _Join(j, [self._start_piece(win, j, lam_b)], end=(k, lam_a), omitted=list(range(i + 1, j)))
+            if c.kind is ElemKind.RETRACT:
+                break
+        b = win.get(i + 1)
+        assert b is not None
+        # CDOF backward search: the next block's offset against the previous block's chain
+        if pending is not None and a.kind is ElemKind.CONTOUR:
+            prev_elem, prev_chain, _ = pending
+            best2: tuple[float, int, float] | None = None
+            for k, piece in enumerate(prev_chain):
+                for h in piece.hits(b.off_start, use_end=True):
+                    if -LAM_TOL <= h.lam_b <= 1.0 + LAM_TOL and (best2 is None or h.lam_b < best2[0]):
+                        best2 = (h.lam_b, k, h.lam_a)
+            if best2 is not None:
+                lam_b, k, lam_a = best2
+                return _Join(i + 1, [Piece(b, b.role, lam_b, 1.0)], backward=(k, lam_a))
+        strategy_join = self._strategy_extension(win, i, chain, pending)
+        if strategy_join is not None:
+            return strategy_join
+        raise self._alarm(
+            10751,
+            "collision danger: no intersection of the tool-centre path found "
+            f"within {n} blocks (MD20240)",
+            a.span,
+        )
+
+    def _strategy_extension(
+        self, win: _Window, i: int, chain: list[Piece], pending: tuple[Elem, list[Piece], list[Elem]] | None
+    ) -> _Join | None:
+        """G461/G462 (R32–R34); the G460 default has none."""
+        a = win.get(i)
+        assert a is not None
+        prev = pending[0] if pending is not None else None
+        if prev is not None and prev.kind is ElemKind.APPROACH and prev.comp.strategy is not ApproachStrategy.G460:
+            self._warn(
+                "TRC-STRATEGY",
+                f"{prev.comp.strategy.value} approach extension is not implemented yet; behaving as G460",
+                prev.span,
+            )
+        return None
+
+    def _search_carrier(self, win: _Window, j: int):  # type: ignore[no-untyped-def]
+        """The geometry block j is searched with (the actual line for a NORM retraction)."""
+        c = win.get(j)
+        assert c is not None
+        if c.kind is ElemKind.RETRACT:
+            prev = win.get(j - 1)
+            if prev is not None:
+                p = prev.off_end.point2(1.0)
+                return Line((p[0], p[1], c.prog.start[2]), c.prog.end)
+        return c.off_start
+
+    def _start_piece(self, win: _Window, j: int, lam: float) -> Piece:
+        c = win.get(j)
+        assert c is not None
+        if c.kind is ElemKind.RETRACT:
+            carrier = self._search_carrier(win, j)
+            p = carrier.point2(lam)
+            return Piece(c, Role.RETRACT, 0.0, 1.0, p0=p)
+        return Piece(c, c.role, max(lam, 0.0) if lam > -LAM_TOL else lam, 1.0)
+
+    # ------------------------------------------------------------------ collision detection
+    def _full_chain(self, win: _Window, j: int) -> list[Piece]:
+        """Block j's chain as the adjacent corner rules build it (untrimmed at inside corners)."""
+        c = win.get(j)
+        prev = win.get(j - 1)
+        assert c is not None and prev is not None
+        if c.kind is ElemKind.RETRACT:
+            carrier = self._search_carrier(win, j)
+            return [Piece(c, Role.RETRACT, 0.0, 1.0, main=False, carrier=carrier)]
+        if prev.kind is ElemKind.APPROACH or prev.degenerate:
+            return [Piece(c, c.role, 0.0, 1.0)]
+        kind, delta = cn.classify(prev, c, self.settings)
+        if kind is cn.JunctionKind.OUTSIDE:
+            mode, disc = cn.corner_mode_for(prev, c)
+            out = cn.outside_corner(prev, c, delta, self.settings, mode, disc)
+            return out.leading + [Piece(c, c.role, out.lam_b, 1.0)]
+        return [Piece(c, c.role, 0.0, 1.0)]
+
+    def _collision(
+        self, win: _Window, i: int, chain: list[Piece], j_adjacent: int
+    ) -> tuple[int, tuple[int, float], list[Piece]] | None:
+        """R26 CDON: the last later block (up to MD20240) whose chain the chain of block i meets."""
+        a = win.get(i)
+        assert a is not None
+        if a.comp.collision is not CollisionMode.CDON or a.kind is ElemKind.RETRACT:
+            return None
+        if a.kind is ElemKind.APPROACH and a.comp.strategy is not ApproachStrategy.G460:
+            return None
+        start_pt = chain[0].start_point()
+        n = self.settings.cutcom_maxnum_check_blocks
+        found: tuple[int, tuple[int, float], list[Piece]] | None = None
+        for j in range(max(i + 2, j_adjacent + 1), i + n + 1):
+            c = win.get(j)
+            if c is None:
+                break
+            if not c.degenerate:
+                full = self._full_chain(win, j)
+                best: tuple[int, float, int, float] | None = None
+                for k, piece in enumerate(chain):
+                    carrier_a = piece.end_carrier()
+                    for m, q in enumerate(full):
+                        lo_b, hi_b = min(q.lam0, q.lam1), max(q.lam0, q.lam1)
+                        lo_a, hi_a = min(piece.lam0, piece.lam1), max(piece.lam0, piece.lam1)
+                        for h in intersections(carrier_a, q.start_carrier(), 1e-9):
+                            if not (lo_a - LAM_TOL <= h.lam_a <= hi_a + LAM_TOL):
+                                continue
+                            if not (lo_b - LAM_TOL <= h.lam_b <= hi_b + LAM_TOL):
+                                continue
+                            if vec.dist(h.point, start_pt) <= self.tol:
+                                continue
+                            key = (m, h.lam_b, k, h.lam_a)
+                            if best is None or key[:2] < best[:2]:
+                                best = key
+                if best is not None:
+                    m, lam_b, k, lam_a = best
+                    rest = full[m:]
+                    rest[0] = _restart(rest[0], lam_b)
+                    found = (j, (k, lam_a), rest)
+            if c.kind is ElemKind.RETRACT:
+                break
+        return found
+
+    # ------------------------------------------------------------------ emission
+    def _emit(self, elem: Elem, chain: list[Piece], omitted: list[Elem]) -> Iterator[Segment]:
+        side = Side.LEFT if elem.side > 0 else Side.RIGHT
+        start_pt = chain[0].start_point() if chain else (elem.prog.start[0], elem.prog.start[1])
+        for d in elem.dummies:
+            yield from self._at_point(d, start_pt, side, elem.r0)
+        w0, w1 = elem.prog.start[2], elem.prog.end[2]
+        lengths = [max(p.plane_length(), 0.0) for p in chain]
+        total = sum(lengths)
+        acc = 0.0
+        for piece, length in zip(chain, lengths, strict=True):
+            wa = w0 + (w1 - w0) * (acc / total if total > 0 else 0.0)
+            acc += length
+            wb = w0 + (w1 - w0) * (acc / total if total > 0 else 1.0)
+            if length <= 1e-12 and abs(wb - wa) <= 1e-12:
+                continue
+            geom = piece.geometry(wa, wb)
+            span = piece.elem.span
+            radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
+            yield Segment(geom, elem.plane, piece.role, span, piece.elem.feed, side, radius)
+        end_pt = chain[-1].end_point() if chain else start_pt
+        for o in omitted:
+            for d in o.dummies:
+                yield from self._at_point(d, end_pt, side, o.r1)
+            yield from self._at_point(o.move, end_pt, side, o.r1)
+
+    def _at_point(self, m: Move, p: Vec2, side: Side, radius: float) -> Iterator[Segment]:
+        """A block without plane motion executed at plane point p (applicate motion only)."""
+        if m.kind is MoveKind.NONE:
+            return
+        w0 = m.plane.to_uvw(m.start)[2]
+        w1 = m.plane.to_uvw(m.end)[2]
+        if abs(w1 - w0) <= 1e-12:
+            return
+        geom = Line((p[0], p[1], w0), (p[0], p[1], w1))
+        role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
+        yield Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
+
+
+def _restart(piece: Piece, lam: float) -> Piece:
+    return Piece(piece.elem, piece.role, lam, piece.lam1, piece.main, piece.carrier, None, piece.p1)
