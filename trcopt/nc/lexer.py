@@ -1,0 +1,293 @@
+"""Word lexer for address-style NC blocks (SINUMERIK syntax) with exact 1-based source columns.
+
+A block is one line. The lexer splits it into an optional block-skip mark (``/``), an optional
+block number (``N60`` or ``:60``), an optional jump label (``MARK1:``) and a list of :class:`Word`
+values. It knows nothing about what the words mean; the dialect does. One compiled regular
+expression drives the scan, so a block costs a handful of regex matches and no per-character
+Python loop.
+
+Word forms recognised (case-insensitive)::
+
+    G1  X-10.5  X.5  M30            address letters + number (words may touch: G1X10Y20)
+    Z=0  X=AC(10)  DISCL=AC(5)      name '=' value; value: number, MODE(number), "string",
+    FAD=PM(200)  CR=-20  X=10+2*3   or a constant arithmetic expression
+    FAD 500                         a bare number after a value-less word belongs to it
+    NORM  CDOF2  CUT2D  TCOFRZ      keywords (no value)
+    MSG("text")                     call form, kept verbatim
+    $TC_DP6[1,1]=10  $TC_CARR23[1]="T"   system-variable assignment (index kept as text)
+
+Malformed input raises :class:`LexError` carrying the message and the column of the word.
+"""
+
+from __future__ import annotations
+
+import ast
+import operator
+import re
+from typing import NamedTuple
+
+__all__ = ["Word", "LexedBlock", "LexError", "Expr", "lex_line", "parse_number"]
+
+
+class LexError(ValueError):
+    """A syntax error inside one block; ``column`` is the 1-based column of the offending word."""
+
+    def __init__(self, message: str, column: int, block: str | None = None) -> None:
+        super().__init__(message)
+        self.message = message
+        self.column = column
+        self.block = block
+
+
+class Expr(str):
+    """A value the lexer could not reduce to a constant (uses variables such as ``R1``)."""
+
+    __slots__ = ()
+
+
+class Word(NamedTuple):
+    """One NC word.
+
+    ``name`` is upper case (``"G"``, ``"X"``, ``"DISCL"``, ``"$TC_DP6"``, ``"MSG"``). ``value`` is
+    ``None`` (keyword), a ``float``, a ``str`` (quoted string, quotes removed), an :class:`Expr`, or
+    ``(mode, float)`` for ``AC(..)``/``IC(..)``/``PM(..)``/``PR(..)`` and similar. ``index`` is the
+    bracket content of a system variable (``"1,1"``) or the argument text of a call form.
+    ``assigned`` tells whether the word was written with ``=``.
+    """
+
+    name: str
+    value: object
+    column: int
+    text: str
+    index: str | None = None
+    assigned: bool = False
+
+
+class LexedBlock(NamedTuple):
+    """One lexed line: skip mark, block number (``"N60"``), label, words, and the comment text."""
+
+    skip: bool
+    number: str | None
+    words: list[Word]
+    first_column: int
+    comment: str | None
+    label: str | None = None
+
+
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
+
+# keywords that contain digits and would otherwise split into address + number
+_DIGIT_KEYWORDS = (
+    "CUT2DF|CUT2D|CUT3DCCD|CUT3DCC|CUT3DC|CUT3DFF|CUT3DFS|CUT3DF|CDOF2"
+)
+
+_TOKEN = re.compile(
+    r"""
+     (?P<ws>[ \t\r\f\v]+)
+    |(?P<comment>;.*)
+    |(?P<sys>\$[A-Z_][A-Z0-9_]*)
+    |(?P<kw>(?:"""
+    + _DIGIT_KEYWORDS
+    + r"""))(?![A-Z0-9_.])
+    |(?P<name>[A-Z_]+[0-9]*)[ \t]*=[ \t]*
+    |(?P<addr>[A-Z_]+)(?P<num>[-+]?[0-9.]*)
+    |(?P<bare>[-+]?[0-9.]+)
+    |(?P<bad>.)
+    """,
+    re.I | re.X,
+)
+
+_PREFIX = re.compile(
+    r"[ \t]*(?P<skip>/[0-9]?)?[ \t]*(?:(?P<n>[N:])(?P<nnum>\d+)(?![0-9.]))?[ \t]*"
+    r"(?:(?P<label>[A-Z_][A-Z0-9_]*):(?!=))?",
+    re.I,
+)
+_INDEX = re.compile(r"\[(?P<idx>[^\[\]\n]*)\](?P<eq>[ \t]*=[ \t]*)?")
+_STRING = re.compile(r'"(?P<s>[^"\n]*)"')
+# value text after '=': runs of non-separators and (up to two levels of) bracketed groups
+_VALUE = re.compile(r'(?:[^\s;()"=\[\]]|\((?:[^()\n]|\([^()\n]*\))*\))+')
+_CALL = re.compile(r'\((?:"[^"\n]*"|[^()"\n]|\([^()\n]*\))*\)')
+_MODE = re.compile(r"(?P<mode>[A-Z]{2,3})\((?P<inner>.*)\)\Z", re.I | re.S)
+_CONST_EXPR = re.compile(r"[-+*/0-9. ()\t]+\Z")
+
+_BINOPS = {
+    ast.Add: operator.add,
+    ast.Sub: operator.sub,
+    ast.Mult: operator.mul,
+    ast.Div: operator.truediv,
+}
+
+
+def _eval_const(node: ast.AST) -> float:
+    if isinstance(node, ast.Expression):
+        return _eval_const(node.body)
+    if isinstance(node, ast.Constant) and isinstance(node.value, int | float):
+        return float(node.value)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub | ast.UAdd):
+        v = _eval_const(node.operand)
+        return -v if isinstance(node.op, ast.USub) else v
+    if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
+        return _BINOPS[type(node.op)](_eval_const(node.left), _eval_const(node.right))
+    raise ValueError("not a constant expression")
+
+
+def parse_number(text: str) -> float | Expr:
+    """A number or constant arithmetic expression → float; text with variables → :class:`Expr`.
+
+    Raises ``ValueError`` for malformed numbers (``1.2.3``) and malformed expressions.
+    """
+    if _NUMBER.match(text):
+        return float(text)
+    if _CONST_EXPR.match(text):
+        try:
+            return _eval_const(ast.parse(text.strip(), mode="eval"))
+        except (SyntaxError, ValueError, ZeroDivisionError):
+            raise ValueError(f"invalid number {text!r}") from None
+    if re.search(r"[A-Z_$]", text, re.I):
+        return Expr(text)
+    raise ValueError(f"invalid number {text!r}")
+
+
+def _parse_value(text: str, column: int, name: str) -> object:
+    """Interpret the text after ``name=``."""
+    if text.startswith('"'):
+        return text[1:-1]
+    m = _MODE.match(text)
+    if m and "(" not in m.group("mode"):
+        inner = m.group("inner").strip()
+        try:
+            return (m.group("mode").upper(), parse_number(inner))
+        except ValueError:
+            raise LexError(f"invalid value {text!r} for {name}", column) from None
+    try:
+        return parse_number(text)
+    except ValueError:
+        raise LexError(f"invalid value {text!r} for {name}", column) from None
+
+
+def _read_value(line: str, pos: int, column: int, name: str) -> tuple[object, int, str]:
+    """Read the value starting at ``pos`` (after ``=``); return (value, new pos, value text)."""
+    if pos < len(line) and line[pos] == '"':
+        m = _STRING.match(line, pos)
+        if m is None:
+            raise LexError(f"unterminated string in {name}", column)
+        return m.group("s"), m.end(), m.group(0)
+    m = _VALUE.match(line, pos)
+    if m is None:
+        if pos < len(line) and line[pos] == "(":
+            raise LexError(f"unbalanced bracket in value of {name}", column)
+        raise LexError(f"{name}= without a value", column)
+    end = m.end()
+    if end < len(line) and line[end] in "([":
+        raise LexError(f"unbalanced bracket in value of {name}", column)
+    text = m.group(0)
+    if text.count("(") != text.count(")"):
+        raise LexError(f"unbalanced bracket in value of {name}", column)
+    return _parse_value(text, column, name), end, text
+
+
+def lex_line(line: str) -> LexedBlock:
+    """Split one NC line into words.
+
+    Parameters
+    ----------
+    line:
+        The text of one block without its line terminator.
+
+    Returns
+    -------
+    LexedBlock
+        ``words`` is empty for an empty or comment-only line.
+
+    Raises
+    ------
+    LexError
+        Malformed number, missing value, unbalanced bracket, unknown character, misplaced ``$``.
+    """
+    pm = _PREFIX.match(line)
+    skip = pm.group("skip") is not None  # type: ignore[union-attr]
+    number = None
+    if pm.group("n") is not None:  # type: ignore[union-attr]
+        number = "N" + str(int(pm.group("nnum")))  # type: ignore[union-attr]
+    label = pm.group("label")  # type: ignore[union-attr]
+    pos = pm.end()  # type: ignore[union-attr]
+    words: list[Word] = []
+    first_column = pos + 1
+    try:
+        comment = _scan(line, pos, words)
+    except LexError as exc:
+        exc.block = number
+        raise
+    return LexedBlock(skip, number, words, first_column, comment, label)
+
+
+def _scan(line: str, pos: int, words: list[Word]) -> str | None:
+    """Append the words of ``line[pos:]`` to ``words``; return the comment text (or None)."""
+    comment: str | None = None
+    n = len(line)
+    match = _TOKEN.match
+    while pos < n:
+        m = match(line, pos)
+        kind = m.lastgroup  # type: ignore[union-attr]  # "num" for address words
+        start = pos
+        pos = m.end()  # type: ignore[union-attr]
+        if kind == "ws":
+            continue
+        column = start + 1
+        if kind == "num":
+            name = m.group("addr").upper()  # type: ignore[union-attr]
+            num = m.group("num")  # type: ignore[union-attr]
+            if num:
+                if _NUMBER.match(num) is None:
+                    raise LexError(f"invalid number {num!r} after {name}", column)
+                words.append(Word(name, float(num), column, line[start:pos]))
+            elif pos < n and line[pos] == "(":
+                cm = _CALL.match(line, pos)
+                if cm is None:
+                    raise LexError(f"unbalanced bracket in {name}(", column)
+                pos = cm.end()
+                words.append(Word(name, None, column, line[start:pos], cm.group(0)[1:-1]))
+            else:
+                words.append(Word(name, None, column, line[start:pos]))
+        elif kind == "name":
+            name = m.group("name").upper()  # type: ignore[union-attr]
+            value, pos, _ = _read_value(line, pos, column, name)
+            words.append(Word(name, value, column, line[start:pos], None, True))
+        elif kind == "comment":
+            comment = line[start + 1 :]
+            break
+        elif kind == "bare":
+            text = m.group("bare")  # type: ignore[union-attr]
+            if words and words[-1].value is None and words[-1].index is None:
+                prev = words[-1]
+                if _NUMBER.match(text) is None:
+                    raise LexError(f"invalid number {text!r} after {prev.name}", prev.column)
+                words[-1] = Word(prev.name, float(text), prev.column, line[prev.column - 1 : pos])
+            else:
+                raise LexError(f"number {text!r} without an address", column)
+        elif kind == "kw":
+            words.append(Word(m.group("kw").upper(), None, column, line[start:pos]))  # type: ignore[union-attr]
+        elif kind == "sys":
+            name = m.group("sys").upper()  # type: ignore[union-attr]
+            im = _INDEX.match(line, pos)
+            if im is None:
+                if pos < n and line[pos] == "[":
+                    raise LexError(f"unbalanced bracket in {name}[", column)
+                eq = re.compile(r"[ \t]*=[ \t]*").match(line, pos)
+                if eq is None:
+                    raise LexError(f"system variable {name} is not in an assignment form", column)
+                index = None
+                pos = eq.end()
+            else:
+                if im.group("eq") is None:
+                    raise LexError(f"system variable {name} is not in an assignment form", column)
+                index = im.group("idx").strip()
+                pos = im.end()
+            value, pos, _ = _read_value(line, pos, column, name)
+            words.append(Word(name, value, column, line[start:pos], index, True))
+        else:  # bad
+            ch = line[start]
+            if ch in "()[]":
+                raise LexError(f"unbalanced bracket {ch!r}", column)
+            raise LexError(f"unexpected character {ch!r}", column)
+    return comment
