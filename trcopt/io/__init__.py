@@ -7,8 +7,10 @@ functions that need them.
 from __future__ import annotations
 
 from .atomic import OutputError, write_text_atomic
+from .dxf import write_dxf
 from .gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
 from .plan_json import PLAN_SCHEMA, PlanJsonError, dumps_plan, plan_json, write_plan_json
+from .svg import render_svg
 
 __all__ = [
     "GcodeError",
@@ -18,7 +20,9 @@ __all__ = [
     "check_gcode_arcs",
     "dumps_plan",
     "plan_json",
+    "render_svg",
     "toolpath_to_gcode",
+    "write_dxf",
     "write_plan_json",
     "write_text_atomic",
 ]
