@@ -1,4 +1,4 @@
-"""Tool-centre G-code writer: exact blocks for hand-built paths, and the after-rounding arc check."""
+"""Tool-centre G-code writer: exact blocks for hand-built paths; the after-rounding arc check."""
 
 from __future__ import annotations
 
@@ -18,7 +18,9 @@ def span(block: str | None, line: int) -> SourceSpan:
     return SourceSpan("sq.mpf", line, 1, block)
 
 
-def seg(geom, role=Role.CONTOUR, block="N20", line=2, feed_mm_min=600.0, plane=Plane.G17, radius=5.0):
+def seg(
+    geom, role=Role.CONTOUR, block="N20", line=2, feed_mm_min=600.0, plane=Plane.G17, radius=5.0
+):
     feed = None if feed_mm_min is None else feed_mm_min / 60.0
     return Segment(geom, plane, role, span(block, line), feed, radius=radius)
 

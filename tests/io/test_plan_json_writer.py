@@ -21,7 +21,15 @@ ERR = Diagnostic(Severity.ERROR, "10751", "collision", SPAN, 10751)
 def toolpath():
     return [
         Segment(Line((-5, 0, 0), (-5, 40, 0)), Plane.G17, Role.CONTOUR, SPAN, 10.0, Side.LEFT, 5.0),
-        Segment(Arc((0, 40), 5.0, math.pi, -math.pi / 2), Plane.G17, Role.CORNER, SPAN, 10.0, Side.LEFT, 5.0),
+        Segment(
+            Arc((0, 40), 5.0, math.pi, -math.pi / 2),
+            Plane.G17,
+            Role.CORNER,
+            SPAN,
+            10.0,
+            Side.LEFT,
+            5.0,
+        ),
     ]
 
 
@@ -42,8 +50,15 @@ def test_contract_keys_in_order_and_values():
     assert d["schema"] == "trcopt.plan/1" and d["units"] == "mm" and d["dialect"] == "siemens"
     assert d["ok"] is True
     assert d["diagnostics"] == [
-        {"severity": "warning", "code": "10763", "alarm": 10763, "message": "path shortened",
-         "line": 6, "column": 1, "block": "N60"}
+        {
+            "severity": "warning",
+            "code": "10763",
+            "alarm": 10763,
+            "message": "path shortened",
+            "line": 6,
+            "column": 1,
+            "block": "N60",
+        }
     ]
     arc = d["toolpath"][1]
     assert arc["kind"] == "arc" and arc["ccw"] is False and arc["center"] == [0.0, 40.0, 0.0]
@@ -53,14 +68,17 @@ def test_contract_keys_in_order_and_values():
 
 
 def test_ok_is_false_iff_an_error_diagnostic():
-    assert make([]) ["ok"] is True
+    assert make([])["ok"] is True
     assert make([WARN, ERR])["ok"] is False
     assert make([ERR.to_json()])["ok"] is False  # dicts accepted too
 
 
 def test_extra_keys_never_override_the_contract():
-    d = make([], timing={"duration_s": 1.25, "machine": {}, "samples": None},
-             extra={"ok": "nope", "schema": "x", "trcopt_version": "0.1.0"})
+    d = make(
+        [],
+        timing={"duration_s": 1.25, "machine": {}, "samples": None},
+        extra={"ok": "nope", "schema": "x", "trcopt_version": "0.1.0"},
+    )
     assert d["ok"] is True and d["schema"] == "trcopt.plan/1"
     assert list(d)[-1] == "trcopt_version"
     assert d["timing"]["duration_s"] == 1.25

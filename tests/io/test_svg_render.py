@@ -41,7 +41,9 @@ def test_svg_is_valid_xml_with_one_path_per_segment():
     programmed, toolpath = square()
     text = render_svg(programmed, toolpath, title="square <1> & co")
     root = parse(text)
-    paths = [p for p in root.iter("{http://www.w3.org/2000/svg}path") if "seg" in p.get("class", "")]
+    paths = [
+        p for p in root.iter("{http://www.w3.org/2000/svg}path") if "seg" in p.get("class", "")
+    ]
     assert len(paths) == len(programmed) + len(toolpath)
     roles = [p.get("data-role") for p in paths]
     assert roles == ["contour", "contour", "approach", "contour", "corner", "contour", "rapid"]
@@ -51,10 +53,14 @@ def test_svg_is_valid_xml_with_one_path_per_segment():
 def test_arc_is_an_exact_clockwise_svg_arc_in_y_up_drawing():
     programmed, toolpath = square()
     root = parse(render_svg(programmed, toolpath))
-    corner = next(p for p in root.iter("{http://www.w3.org/2000/svg}path") if p.get("data-role") == "corner")
-    # G2 from (-5, 40) to (0, 45): y flipped -> SVG (-5,-40) to (0,-45), clockwise on screen = flag 1
+    corner = next(
+        p for p in root.iter("{http://www.w3.org/2000/svg}path") if p.get("data-role") == "corner"
+    )
+    # G2 (-5, 40) -> (0, 45): y flipped -> SVG (-5,-40) to (0,-45), clockwise on screen = flag 1
     assert corner.get("d") == "M -5 -40 A 5 5 0 0 1 0 -45"
-    rapid = next(p for p in root.iter("{http://www.w3.org/2000/svg}path") if p.get("data-role") == "rapid")
+    rapid = next(
+        p for p in root.iter("{http://www.w3.org/2000/svg}path") if p.get("data-role") == "rapid"
+    )
     assert rapid.get("stroke-dasharray")
     assert rapid.get("stroke") == "#8c8c8c"
 
@@ -63,7 +69,11 @@ def test_arcs_of_180_degrees_and_more_are_split():
     full = seg(Arc((0, 0), 10.0, 0.0, 2 * math.pi))
     half = seg(Arc((0, 0), 10.0, 0.0, -math.pi))
     root = parse(render_svg([], [full, half]))
-    ds = [p.get("d") for p in root.iter("{http://www.w3.org/2000/svg}path") if "seg" in p.get("class", "")]
+    ds = [
+        p.get("d")
+        for p in root.iter("{http://www.w3.org/2000/svg}path")
+        if "seg" in p.get("class", "")
+    ]
     assert ds[0].count("A ") == 3 and ds[1].count("A ") == 2
     assert all(" 0 0 1 " in d or " 0 0 0 " in d for d in ds)  # never a large-arc flag
 
@@ -92,8 +102,12 @@ def test_tool_circles_are_thinned_to_the_limit():
 def test_markers_for_located_diagnostics_and_explicit_points():
     programmed, toolpath = square()
     diags = [
-        Diagnostic(Severity.WARNING, "10763", "path shortened", SourceSpan("sq.mpf", 4, 1, "N40"), 10763),
-        Diagnostic(Severity.ERROR, "10751", "collision", SourceSpan("sq.mpf", 99, 1, "N990"), 10751),
+        Diagnostic(
+            Severity.WARNING, "10763", "path shortened", SourceSpan("sq.mpf", 4, 1, "N40"), 10763
+        ),
+        Diagnostic(
+            Severity.ERROR, "10751", "collision", SourceSpan("sq.mpf", 99, 1, "N990"), 10751
+        ),
         Diagnostic(Severity.INFO, "X", "note", SourceSpan("sq.mpf", 3, 1)),
     ]
     text = render_svg(programmed, toolpath, diags, markers=[(20.0, 20.0, "mine")])
@@ -110,7 +124,11 @@ def test_other_plane_segments_are_projected_and_polys_are_polylines():
     poly = hermite_curve((0, 0, 0), (5, 0, 0), (5, 5, 0), (0, 5, 0))
     g18 = Arc((0, 0), 5.0, 0.0, math.pi / 2)  # in G18 (Z, X)
     root = parse(render_svg([], [seg(poly), seg(g18, plane=Plane.G18)]))
-    ds = [p.get("d") for p in root.iter("{http://www.w3.org/2000/svg}path") if "seg" in p.get("class", "")]
+    ds = [
+        p.get("d")
+        for p in root.iter("{http://www.w3.org/2000/svg}path")
+        if "seg" in p.get("class", "")
+    ]
     assert len(ds) == 2
     assert ds[0].count(" ") >= 2 * len(poly.points) and "A" not in ds[0]
     assert "A" not in ds[1]

@@ -18,7 +18,9 @@ __all__ = ["OutputError", "write_text_atomic"]
 class OutputError(TrcoptError, OSError):
     """An output file could not be written; ``path`` names it."""
 
-    def __init__(self, message: str, path: str | os.PathLike[str] | None = None, code: str = "OUTPUT") -> None:
+    def __init__(
+        self, message: str, path: str | os.PathLike[str] | None = None, code: str = "OUTPUT"
+    ) -> None:
         super().__init__(message, None, code)
         self.path = None if path is None else os.fspath(path)
 

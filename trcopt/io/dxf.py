@@ -22,7 +22,11 @@ from .atomic import write_text_atomic
 
 __all__ = ["write_dxf", "DXF_LAYERS"]
 
-DXF_LAYERS = {"PROGRAMMED": 7, "TOOLPATH": 5, "INSERTED": 30}  # ACI colours: white/black, blue, orange
+DXF_LAYERS = {
+    "PROGRAMMED": 7,
+    "TOOLPATH": 5,
+    "INSERTED": 30,
+}  # ACI colours: white/black, blue, orange
 _INSERTED_ROLES = (Role.CORNER, Role.APPROACH, Role.RETRACT)
 
 
@@ -32,7 +36,9 @@ def _uv(draw: Plane, seg_plane: Plane, p: Sequence[float]) -> tuple[float, float
     return draw.to_uvw(seg_plane.to_xyz((p[0], p[1], p[2])))
 
 
-def write_dxf(path: str | os.PathLike[str], programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> Path:
+def write_dxf(
+    path: str | os.PathLike[str], programmed: Sequence[Segment], toolpath: Sequence[Segment]
+) -> Path:
     """Write the programmed contour and the tool-centre path to a DXF file (R2013, mm).
 
     Drawn in the plane of the first segment: for G17 the DXF x, y, z are the workpiece X, Y, Z;
@@ -61,7 +67,8 @@ def write_dxf(path: str | os.PathLike[str], programmed: Sequence[Segment], toolp
         import ezdxf  # noqa: PLC0415 - optional extra, loaded on use
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise TrcoptError(
-            "DXF output needs ezdxf: install trcopt[dxf] (pip install 'trcopt[dxf]')", code="DXF-MISSING"
+            "DXF output needs ezdxf: install trcopt[dxf] (pip install 'trcopt[dxf]')",
+            code="DXF-MISSING",
         ) from exc
 
     programmed, toolpath = list(programmed), list(toolpath)

@@ -158,7 +158,9 @@ def _arc_block(
     end_xyz = plane.to_xyz(arc.end)
     start_xyz = plane.to_xyz(arc.start)
     # the controller starts where the last block ended (as written)
-    s_xyz = [w.pos[i] if w.pos[i] is not None else _round(start_xyz[i], w.decimals) for i in range(3)]
+    s_xyz = [
+        w.pos[i] if w.pos[i] is not None else _round(start_xyz[i], w.decimals) for i in range(3)
+    ]
     s_u, s_v = s_xyz[ui], s_xyz[vi]
     cu, cv = arc.center
     sense = 1 if arc.sweep > 0 else -1
@@ -194,7 +196,10 @@ def _arc_block(
                 continue
             slack = w.tolerance + 10.0**-w.decimals
             if any(
-                arc.distance2((rc_u + r0 * math.cos(a0 + f * sweep), rc_v + r0 * math.sin(a0 + f * sweep))) > slack
+                arc.distance2(
+                    (rc_u + r0 * math.cos(a0 + f * sweep), rc_v + r0 * math.sin(a0 + f * sweep))
+                )
+                > slack
                 for f in (0.25, 0.5, 0.75)
             ):
                 continue

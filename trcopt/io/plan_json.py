@@ -18,7 +18,14 @@ from ..errors import Diagnostic, Severity, TrcoptError
 from ..path import Segment
 from .atomic import write_text_atomic
 
-__all__ = ["PLAN_SCHEMA", "CONTRACT_KEYS", "PlanJsonError", "plan_json", "dumps_plan", "write_plan_json"]
+__all__ = [
+    "PLAN_SCHEMA",
+    "CONTRACT_KEYS",
+    "PlanJsonError",
+    "plan_json",
+    "dumps_plan",
+    "write_plan_json",
+]
 
 PLAN_SCHEMA = "trcopt.plan/1"
 CONTRACT_KEYS = (
@@ -160,5 +167,5 @@ def dumps_plan(d: Mapping[str, Any]) -> str:
 
 
 def write_plan_json(path: str | os.PathLike[str], d: Mapping[str, Any]) -> Path:
-    """Serialise with :func:`dumps_plan` and write atomically (:class:`OutputError` on I/O failure)."""
+    """Serialise with :func:`dumps_plan` and write atomically (OutputError on I/O failure)."""
     return write_text_atomic(path, dumps_plan(d))

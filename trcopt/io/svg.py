@@ -2,8 +2,8 @@
 
 Drawn in the plane of the first segment (u, v; the applicate is ignored), +v up. Lines are
 ``L`` commands, arcs exact ``A`` commands (split so no piece reaches 180°), polys polylines; each
-segment is one ``<path>`` carrying ``data-role``/``data-line``/``data-block`` attributes. Segments in
-another plane are projected onto the drawing plane (arcs then as sampled polylines).
+segment is one ``<path>`` carrying ``data-role``/``data-line``/``data-block`` attributes.
+Segments in another plane are projected onto the drawing plane (arcs then as sampled polylines).
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ from xml.sax.saxutils import escape, quoteattr
 
 from ..errors import Diagnostic, Severity
 from ..geometry.plane import Plane
-from ..geometry.poly import Poly
 from ..geometry.primitives import Arc, Line
 from ..path import Role, Segment
 
@@ -76,7 +75,9 @@ def _arc_extreme_points(arc: Arc) -> list[Vec2]:
     for k in range(math.floor(lo / (math.pi / 2)), math.ceil(hi / (math.pi / 2)) + 1):
         a = k * math.pi / 2
         if lo <= a <= hi:
-            pts.append((arc.center[0] + arc.radius * math.cos(a), arc.center[1] + arc.radius * math.sin(a)))
+            pts.append(
+                (arc.center[0] + arc.radius * math.cos(a), arc.center[1] + arc.radius * math.sin(a))
+            )
     return pts
 
 
@@ -248,7 +249,8 @@ def render_svg(
     # the drawing, in mm, y flipped by construction (SVG y = -v)
     a(
         f'<svg x="0" y="{_n(_TITLE_PX)}" width="{_n(width)}" height="{_n(draw_h)}" '
-        f'viewBox="{_n(vb_x)} {_n(vb_y)} {_n(vb_w)} {_n(vb_h)}" preserveAspectRatio="xMidYMid meet">'
+        f'viewBox="{_n(vb_x)} {_n(vb_y)} {_n(vb_w)} {_n(vb_h)}" '
+        'preserveAspectRatio="xMidYMid meet">'
     )
     if tools:
         a(f'<g class="tool" fill="none" stroke="{TOOL_COLOUR}" stroke-opacity="0.25">')
@@ -260,9 +262,7 @@ def render_svg(
         a("</g>")
 
     def seg_path(seg: Segment, colour: str, width_px_: float, dashed: bool, cls: str) -> str:
-        dash = (
-            f' stroke-dasharray="{_n(4 * mm_per_px)} {_n(3 * mm_per_px)}"' if dashed else ""
-        )
+        dash = f' stroke-dasharray="{_n(4 * mm_per_px)} {_n(3 * mm_per_px)}"' if dashed else ""
         block = f" data-block={quoteattr(seg.span.block)}" if seg.span.block else ""
         return (
             f'<path class="seg {cls}" d="{_path_d(proj, seg)}" fill="none" stroke="{colour}" '
@@ -299,15 +299,21 @@ def render_svg(
     y0 = _TITLE_PX + draw_h + _PAD_PX
     a(f'<g class="legend" transform="translate({_n(_PAD_PX)} {_n(y0)})">')
     for k, (label, colour, style) in enumerate(legend):
-        y = k * _LEGEND_LINE_PX + 8
+        y = _n(k * _LEGEND_LINE_PX + 8)
         if style == "circle":
-            a(f'<circle cx="14" cy="{_n(y)}" r="6" fill="none" stroke="{colour}" stroke-opacity="0.4"/>')
+            a(
+                f'<circle cx="14" cy="{y}" r="6" fill="none" stroke="{colour}" '
+                'stroke-opacity="0.4"/>'
+            )
         elif style == "marker":
-            a(f'<circle cx="14" cy="{_n(y)}" r="5" fill="{colour}" fill-opacity="0.5" stroke="{colour}"/>')
+            a(
+                f'<circle cx="14" cy="{y}" r="5" fill="{colour}" '
+                f'fill-opacity="0.5" stroke="{colour}"/>'
+            )
         else:
             dash = f' stroke-dasharray="{style}"' if style else ""
-            a(f'<line x1="0" y1="{_n(y)}" x2="28" y2="{_n(y)}" stroke="{colour}" stroke-width="2"{dash}/>')
-        a(f'<text x="36" y="{_n(y + 4)}">{escape(label)}</text>')
+            a(f'<line x1="0" y1="{y}" x2="28" y2="{y}" stroke="{colour}" stroke-width="2"{dash}/>')
+        a(f'<text x="36" y="{_n(k * _LEGEND_LINE_PX + 12)}">{escape(label)}</text>')
     for k, note in enumerate(notes):
         y = (len(legend) + k) * _LEGEND_LINE_PX + 12
         a(f'<text x="0" y="{_n(y)}" fill="{MARKER_COLOUR}">{escape(note)}</text>')
