@@ -72,8 +72,8 @@ def write_dxf(
         ) from exc
 
     programmed, toolpath = list(programmed), list(toolpath)
-    first = (toolpath or programmed or [None])[0]
-    draw = first.plane if first is not None else Plane.G17
+    everything = toolpath or programmed
+    draw = everything[0].plane if everything else Plane.G17
 
     doc = ezdxf.new("R2013", setup=True)
     doc.units = ezdxf.units.MM

@@ -158,9 +158,10 @@ def _arc_block(
     end_xyz = plane.to_xyz(arc.end)
     start_xyz = plane.to_xyz(arc.start)
     # the controller starts where the last block ended (as written)
-    s_xyz = [
-        w.pos[i] if w.pos[i] is not None else _round(start_xyz[i], w.decimals) for i in range(3)
-    ]
+    s_xyz: list[float] = []
+    for i in range(3):
+        known = w.pos[i]
+        s_xyz.append(known if known is not None else _round(start_xyz[i], w.decimals))
     s_u, s_v = s_xyz[ui], s_xyz[vi]
     cu, cv = arc.center
     sense = 1 if arc.sweep > 0 else -1
@@ -222,7 +223,7 @@ def _arc_block(
 
 def _write_segment(w: _Writer, seg: Segment) -> None:
     g = seg.geometry
-    note = _source_note(seg)
+    note: str | None = _source_note(seg)
     plane = seg.plane
     if any(c is None for c in w.pos):
         # the controller's position is unknown: the path starts with a rapid to its start point

@@ -178,8 +178,8 @@ def render_svg(
     """
     programmed = list(programmed)
     toolpath = list(toolpath)
-    first = (toolpath or programmed or [None])[0]
-    proj = _Projector(first.plane if first is not None else Plane.G17)
+    everything = toolpath or programmed
+    proj = _Projector(everything[0].plane if everything else Plane.G17)
 
     tools = _tool_junctions(proj, toolpath) if show_tool else []
     marks: list[tuple[Vec2, str]] = [((float(u), float(v)), str(label)) for u, v, label in markers]
@@ -315,8 +315,8 @@ def render_svg(
             a(f'<line x1="0" y1="{y}" x2="28" y2="{y}" stroke="{colour}" stroke-width="2"{dash}/>')
         a(f'<text x="36" y="{_n(k * _LEGEND_LINE_PX + 12)}">{escape(label)}</text>')
     for k, note in enumerate(notes):
-        y = (len(legend) + k) * _LEGEND_LINE_PX + 12
-        a(f'<text x="0" y="{_n(y)}" fill="{MARKER_COLOUR}">{escape(note)}</text>')
+        y_note = (len(legend) + k) * _LEGEND_LINE_PX + 12
+        a(f'<text x="0" y="{_n(y_note)}" fill="{MARKER_COLOUR}">{escape(note)}</text>')
     a("</g>")
     a("</svg>")
     return "\n".join(out) + "\n"
