@@ -27,7 +27,7 @@ from ..path import Role, Segment
 from . import corners as cn
 from .elements import Elem, ElemKind, Piece, make_programmed_geometry
 
-__all__ = ["compensate", "Compensator"]
+__all__ = ["compensate", "Compensator", "programmed_segment"]
 
 LAM_TOL = 1e-9
 
@@ -101,6 +101,20 @@ class _Join:
     backward: tuple[int, float] | None = None  # trim the previous block's chain here; omit block i
 
 
+def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
+    """The uncompensated segment of a move (None for a block without motion)."""
+    if m.kind is MoveKind.NONE or (m.start == m.end and m.kind is not MoveKind.ARC):
+        return None
+    geom = make_programmed_geometry(m)
+    if m.kind is MoveKind.RAPID:
+        role = Role.RAPID
+    elif geom.plane_length <= tol and m.kind is MoveKind.LINE:
+        role = Role.POSITIONING
+    else:
+        role = Role.CONTOUR
+    return Segment(geom, m.plane, role, m.span, m.feed_mm_s)
+
+
 def _plane_moving(m: Move, tol: float) -> bool:
     if m.kind is MoveKind.NONE:
         return False
@@ -147,16 +161,9 @@ class Compensator:
         self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span, number))
 
     def _passthrough(self, m: Move) -> Iterator[Segment]:
-        if m.kind is MoveKind.NONE or m.start == m.end and m.kind is not MoveKind.ARC:
-            return
-        geom = make_programmed_geometry(m)
-        if m.kind is MoveKind.RAPID:
-            role = Role.RAPID
-        elif geom.plane_length <= self.tol and m.kind is MoveKind.LINE:
-            role = Role.POSITIONING
-        else:
-            role = Role.CONTOUR
-        yield Segment(geom, m.plane, role, m.span, m.feed_mm_s)
+        seg = programmed_segment(m, self.tol)
+        if seg is not None:
+            yield seg
 
     # ------------------------------------------------------------------ region elements
     def _elements(self, first: Move, it: _Peekable) -> Iterator[Elem]:

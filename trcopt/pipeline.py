@@ -1,0 +1,174 @@
+"""``plan()``: part program → canonical moves → tool-centre path → (timing) → result.
+
+Each stage is also callable on its own (:func:`trcopt.nc.read_program`,
+:func:`trcopt.compensation.compensate`, :func:`trcopt.timing.time_parameterize`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .compensation import compensate, programmed_segment
+from .config import DEFAULT_MACHINE, Machine, TrcSettings
+from .errors import Diagnostic, Severity, SourceSpan, TrcoptError
+from .nc.model import NcProgram
+from .path import Segment, segments_length
+
+__all__ = ["PlanOptions", "PlanResult", "plan", "plan_file", "DIALECTS"]
+
+DIALECTS = ("auto", "siemens", "heidenhain", "rs274")
+
+
+@dataclass(frozen=True, slots=True)
+class PlanOptions:
+    """What ``plan`` does.
+
+    Parameters
+    ----------
+    dialect:
+        ``auto`` (from the file name and contents), ``siemens``, ``heidenhain`` or ``rs274``.
+    settings:
+        Compensation machine data and tolerances.
+    machine:
+        Axis limits for the timing stage (the embedded default machine when omitted).
+    timing:
+        Compute the time-optimal feed profile and cycle time.
+    strict:
+        Treat possible contour violations (CDOF reversed elements) as alarm 10751.
+    """
+
+    dialect: str = "auto"
+    settings: TrcSettings = field(default_factory=TrcSettings)
+    machine: Machine = DEFAULT_MACHINE
+    timing: bool = True
+    strict: bool = False
+
+
+@dataclass(slots=True)
+class PlanResult:
+    """Everything a plan produced: the program, both paths, diagnostics and timing."""
+
+    program: str
+    dialect: str
+    nc: NcProgram
+    programmed: list[Segment]
+    toolpath: list[Segment]
+    diagnostics: list[Diagnostic]
+    timing: Any = None  # trcopt.timing.TimedTrajectory when computed
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """False iff an error-severity diagnostic was raised."""
+        return not any(d.severity is Severity.ERROR for d in self.diagnostics)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.WARNING]
+
+    @property
+    def path_length(self) -> float:
+        """Tool-centre path length, mm."""
+        return segments_length(self.toolpath)
+
+    @property
+    def duration(self) -> float | None:
+        """Cycle time, s (None when timing was not computed)."""
+        return None if self.timing is None else float(self.timing.duration)
+
+    def to_json(self) -> dict[str, Any]:
+        """The plan JSON (design.md §3.1, schema ``trcopt.plan/1``)."""
+        from .io.plan_json import plan_json
+
+        toolpath = self.toolpath
+        timing_json = None
+        if self.timing is not None:
+            toolpath = self.timing.segments_with_times()
+            timing_json = self.timing.to_json()
+        return plan_json(
+            program=self.program,
+            dialect=self.dialect,
+            diagnostics=self.diagnostics,
+            programmed=self.programmed,
+            toolpath=toolpath,
+            timing=timing_json,
+            extra=self.extra,
+        )
+
+    def summary(self) -> str:
+        """A few lines for the terminal."""
+        lines = [
+            f"{self.program}: {self.dialect}, {self.nc.blocks} blocks, "
+            f"{len(self.toolpath)} tool-centre segments, path length {self.path_length:.3f} mm",
+        ]
+        if self.duration is not None:
+            lines.append(f"cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
+        n_err, n_warn = len(self.errors), len(self.warnings)
+        lines.append(f"{n_err} alarm(s), {n_warn} warning(s)" + ("" if self.ok else " — stopped at the alarm"))
+        return "\n".join(lines)
+
+
+def plan(
+    source: str,
+    *,
+    file: str = "<program>",
+    options: PlanOptions | None = None,
+) -> PlanResult:
+    """Plan a part program given as text.
+
+    Never raises for a problem in the program: alarms are diagnostics and the paths stop there.
+    """
+    from .nc import detect_dialect, read_program
+
+    opts = options or PlanOptions()
+    settings = opts.settings if not opts.strict else opts.settings.with_(strict=True)
+    dialect = opts.dialect
+    if dialect not in DIALECTS:
+        raise TrcoptError(f"unknown dialect {dialect!r}; valid: {', '.join(DIALECTS)}", code="USAGE")
+    if dialect == "auto":
+        dialect = detect_dialect(source, file)
+    nc = read_program(source, file=file, dialect=dialect, tolerances=settings.tolerances)
+    diagnostics = list(nc.diagnostics)
+    tol = settings.tolerances.coincidence_mm
+    programmed = [s for s in (programmed_segment(m, tol) for m in nc.moves) if s is not None]
+    trc_diags: list[Diagnostic] = []
+    toolpath = list(compensate(nc.moves, settings, trc_diags))
+    diagnostics.extend(trc_diags)
+    result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
+    if opts.timing and toolpath:
+        _attach_timing(result, opts.machine)
+    return result
+
+
+def _attach_timing(result: PlanResult, machine: Machine) -> None:
+    try:
+        from .timing import time_parameterize
+    except ImportError:  # the timing stage is optional at this layer
+        return
+    try:
+        result.timing = time_parameterize(result.toolpath, machine)
+    except TrcoptError as exc:
+        diag = exc.to_diagnostic()
+        result.diagnostics.append(
+            Diagnostic(Severity.WARNING, diag.code, f"timing not computed: {diag.message}", diag.span or SourceSpan())
+        )
+
+
+def plan_file(path: str | Path, options: PlanOptions | None = None) -> PlanResult:
+    """Plan a part program file; an unreadable file raises :class:`TrcoptError` (code ``IO``)."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise TrcoptError(f"cannot read {p}: {exc.strerror}", code="IO") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")
+    return plan(text, file=str(path), options=options)
