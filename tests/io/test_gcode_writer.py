@@ -224,3 +224,9 @@ def _final_position(text: str) -> list[float]:
         for axis, val in re.findall(r"([XYZ])(-?[\d.]+)", code):
             pos["XYZ".index(axis)] = float(val)
     return pos
+
+
+def test_program_name_cannot_break_the_comment():
+    text = toolpath_to_gcode([], program_name="a\nG0 X0")
+    assert text.splitlines()[0] == "; trcopt tool-centre path of a G0 X0"
+    assert body(text) == ["N10 G71 G90 G94 G40 G17", "N20 M30"]

@@ -83,7 +83,7 @@ class _Writer:
     # -- block assembly -------------------------------------------------------------------------
     def comment(self, text: str) -> str:
         if self.flavor == "siemens":
-            return f"; {text}"
+            return "; " + text.replace("\n", " ").replace("\r", " ")
         return f"({_rs274_comment_text(text)})"
 
     def emit(self, words: list[str], note: str | None = None) -> None:
