@@ -84,6 +84,9 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def _err(file: str, message: str) -> None:
+    prefix = f"{file}: "
+    if message.startswith(prefix):
+        message = message[len(prefix) :]
     print(f"{file}: error {message}", file=sys.stderr)
 
 
@@ -121,7 +124,8 @@ def run_orient(args: argparse.Namespace) -> int:
     try:
         carrier = _load(args)
     except AlarmError as exc:  # alarm 14153 from a program's data block
-        _err(file, exc.diagnostic.format())
+        dg = exc.diagnostic
+        _err(file, f"{dg.code}: {dg.message}")
         return 1
     except ConfigError as exc:
         _err(file, exc.message)

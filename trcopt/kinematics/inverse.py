@@ -299,7 +299,9 @@ def inverse_solutions(
         ang = {}
         for i in (1, 2):
             t = th[i]
-            ang[i] = reference[i - 1] if t is None else t + off[i - 1]
+            if t is not None and t <= -180.0:
+                t += 360.0  # keep θ in (−180°, 180°] after the sign of §6.1
+            ang[i] = float(reference[i - 1]) if t is None else t + off[i - 1]
         return AnglePair(ang[1], ang[2], th[1] is None, th[2] is None)
 
     pairs: list[AnglePair] = []
@@ -350,7 +352,7 @@ def inverse_solutions(
             for x in xs:
                 pairs.append(to_pair(_signed_angle(a, u, x), _signed_angle(b, w, x)))
             if not xs:
-                note = f"orientation not reachable (gamma^2 = {gamma2:.3e} < 0)"
+                note = f"the cones of the two axes do not meet (gamma^2 = {gamma2:.3e} < 0)"
             elif any(p.free1 or p.free2 for p in pairs):
                 kind, note = SolutionKind.FREE, "a rotary axis is parallel to the direction it turns"
             elif len(xs) == 1:

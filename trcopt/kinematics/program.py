@@ -165,7 +165,7 @@ def evaluate_toolholder(
             }
         )
 
-    for ev in events:
+    for ev in _block_order(events):
         span = SourceSpan(
             file=file,
             line=int(ev.get("line", 0) or 0),
@@ -230,6 +230,24 @@ def evaluate_toolholder(
             diags.append(exc.diagnostic)
             break
     return state, diags
+
+
+def _block_order(events: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
+    """Within one block (same line) the words act together: apply plane, frame and group-42 words
+    before ``TCARR`` so that ``TCARR=1 TCOFR`` selects the holder once, in the block's mode."""
+    out: list[Mapping[str, Any]] = []
+    i = 0
+    while i < len(events):
+        j = i
+        while j < len(events) and events[j].get("line") == events[i].get("line"):
+            j += 1
+        group = list(events[i:j])
+        if events[i].get("line") is None:
+            out.extend(group)
+        else:
+            out.extend(sorted(group, key=lambda e: str(e.get("word", "")).upper() == "TCARR"))
+        i = j
+    return out
 
 
 # ------------------------------------------------------------------------------------------------
