@@ -1,0 +1,92 @@
+"""Adaptive grids on the exact path (documented rule; spec timing.md §0.2 and §0.3b).
+
+The error of the TOPP-RA interpolation scheme comes from (1) the switch between an acceleration
+ramp and a constant-speed run falling between grid points and (2) limits that vary inside an
+interval (the direction of an arc's tangent and normal). Both are controlled here:
+
+* **ramp zones** — within one ramp length ``ℓ = F²/(2·a_min)`` of every segment end the spacing is
+  ``h0 = ℓ/RAMP_POINTS`` (ramps start and end at knots or at the slowest points of a section);
+  beyond that the spacing grows linearly (``GROWTH`` per mm) up to the cap below;
+* **angle cap** on arcs/helices: ``Δθ ≤ DTHETA_ACC`` (0.0125 rad, ~500 points per turn) where the
+  arc's centripetal acceleration matters (``F² > ½·a_min·ρ``) and ``Δθ ≤ DTHETA_FEED`` (0.1 rad)
+  where the feed binds; the acceleration rows of an arc interval are tightened by ``cos(Δθ/2)``
+  so the per-axis acceleration inside the interval stays below the limit as well;
+* **lines** need no interior points in the own solver (the exact profile on a line is the min of
+  two ramps and the cruise speed, reconstructed in closed form afterwards); for toppra they get
+  the ramp-zone rule with a cap of ``LINE_CAP_MM``;
+* **toppra**: every knot is a grid point, and so is ``s_k − KNOT_EPS_MM`` just before it
+  (toppra evaluates paths right-continuously, so without it an arc's last point would see the
+  following line's zero curvature).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .path import SegmentEval
+
+RAMP_POINTS = 16.0
+GROWTH = 0.25
+DTHETA_ACC = 0.0125
+DTHETA_FEED = 0.1
+LINE_CAP_MM = 5.0
+POLY_CAP_MM = 0.5
+KNOT_EPS_MM = 1e-6
+
+__all__ = ["segment_grid", "KNOT_EPS_MM"]
+
+
+def _graded(length: float, h0: float, zone: float, hmax: float) -> np.ndarray:
+    """Points in [0, length]: spacing h0 within ``zone`` of both ends, growing to ``hmax``."""
+    hmax = max(hmax, h0)
+    if length <= 2.0 * h0:
+        return np.array([0.0, length])
+    half = 0.5 * length
+    pts = [0.0]
+    d = 0.0
+    while True:
+        h = h0 if d < zone else min(hmax, h0 + GROWTH * (d - zone))
+        d += h
+        if d >= half:
+            break
+        pts.append(d)
+    left = np.array(pts)
+    right = length - left[::-1]
+    mid = [half] if (half - left[-1]) > 0.25 * h0 else []
+    return np.concatenate((left, mid, right))
+
+
+def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: str) -> tuple[np.ndarray, float]:
+    """Local grid points (0 .. length, mm) of one segment and the arc's angular rate (rad/mm).
+
+    Parameters
+    ----------
+    ev:
+        The segment evaluator.
+    feed:
+        Path-speed limit on the segment, mm/s.
+    amin:
+        Smallest axis acceleration limit, mm/s².
+    engine:
+        ``"own"`` or ``"toppra"``.
+    """
+    length = ev.length
+    ramp = feed * feed / (2.0 * amin)
+    h0 = min(ramp / RAMP_POINTS, length / 4.0)
+    if ev.kind == "line":
+        if engine == "own":
+            return np.array([0.0, length]), 0.0
+        return _graded(length, h0, ramp, LINE_CAP_MM), 0.0
+    if ev.kind == "arc":
+        assert ev._arc is not None
+        _, _, r, _, sweep, _, _ = ev._arc
+        rate = abs(sweep) / length  # rad per mm of 3D arc length
+        rho = 1.0 / (r * rate * rate)  # radius of curvature (helix: ℓ²/R)
+        dtheta = DTHETA_ACC if feed * feed > 0.5 * amin * rho else DTHETA_FEED
+        n_min = max(2, math.ceil(abs(sweep) / dtheta))
+        hcap = length / n_min
+        grid = _graded(length, min(h0, hcap), ramp, hcap)
+        return grid, rate
+    return _graded(length, min(h0, POLY_CAP_MM), ramp, POLY_CAP_MM), 0.0

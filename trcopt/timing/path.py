@@ -1,0 +1,249 @@
+"""Exact arc-length evaluation of tool-centre segments, and toppra's geometric-path protocol.
+
+Lines and arcs/helices are evaluated in closed form (vectorised over many arc-length values);
+:class:`~trcopt.geometry.Poly` curves through their own cubic-Hermite ``derivatives``. Positions and
+derivatives are returned in workpiece coordinates (x, y, z), mm, with respect to 3D arc length s
+in mm, so ``|dp/ds| = 1`` on every element.
+
+:class:`SectionPath` strings the segments of one section together and implements the protocol
+toppra's algorithms call (``__call__(s, order)``, ``dof``, ``path_interval``, ``waypoints``)
+without importing toppra. At a knot the path is evaluated right-continuously (the next element),
+like every toppra path; the grid therefore carries a point just before each knot (see
+:mod:`trcopt.timing.grid`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..geometry.poly import Poly
+from ..geometry.primitives import Arc, Line
+from ..path import Segment
+
+__all__ = ["SegmentEval", "SectionPath"]
+
+
+class SegmentEval:
+    """Closed-form vectorised evaluation of one segment in (x, y, z).
+
+    Parameters
+    ----------
+    segment:
+        The tool-path segment; its geometry is in plane coordinates (u, v, w).
+    """
+
+    __slots__ = ("segment", "length", "kind", "_perm", "_line", "_arc")
+
+    def __init__(self, segment: Segment) -> None:
+        self.segment = segment
+        g = segment.geometry
+        self.length = float(g.length)
+        # column k of the (u, v, w) result goes to xyz column perm[k]
+        self._perm = segment.plane.axes
+        self._line: tuple[np.ndarray, np.ndarray] | None = None
+        self._arc: tuple[float, ...] | None = None
+        if isinstance(g, Line):
+            self.kind = "line"
+            p0 = np.array(g.start, dtype=float)
+            p1 = np.array(g.end, dtype=float)
+            d = (p1 - p0) / self.length if self.length > 0 else np.zeros(3)
+            self._line = (p0, d)
+        elif isinstance(g, Arc):
+            self.kind = "arc"
+            self._arc = (g.center[0], g.center[1], g.radius, g.a0, g.sweep, g.w0, g.w1)
+        elif isinstance(g, Poly):
+            self.kind = "poly"
+        else:  # pragma: no cover - the Geometry union is closed
+            raise TypeError(f"unsupported geometry {type(g).__name__}")
+
+    # -- plane (u, v, w) evaluation -------------------------------------------------------------
+    def _uvw(self, s: np.ndarray, order: int) -> np.ndarray:
+        n = s.shape[0]
+        if self.kind == "line":
+            assert self._line is not None
+            p0, d = self._line
+            if order == 0:
+                return p0[None, :] + s[:, None] * d[None, :]
+            if order == 1:
+                return np.broadcast_to(d, (n, 3)).copy()
+            return np.zeros((n, 3))
+        if self.kind == "arc":
+            assert self._arc is not None
+            cu, cv, r, a0, sweep, w0, w1 = self._arc
+            length = self.length
+            da = sweep / length
+            a = a0 + s * da
+            ca, sa = np.cos(a), np.sin(a)
+            out = np.empty((n, 3))
+            if order == 0:
+                out[:, 0] = cu + r * ca
+                out[:, 1] = cv + r * sa
+                out[:, 2] = w0 + (w1 - w0) * (s / length)
+            elif order == 1:
+                out[:, 0] = -r * da * sa
+                out[:, 1] = r * da * ca
+                out[:, 2] = (w1 - w0) / length
+            else:
+                k = r * da * da
+                out[:, 0] = -k * ca
+                out[:, 1] = -k * sa
+                out[:, 2] = 0.0
+            return out
+        g = self.segment.geometry
+        out = np.empty((n, 3))
+        for i, si in enumerate(s):
+            out[i] = g.derivatives(float(si))[order]
+        return out
+
+    def eval(self, s: np.ndarray | float, order: int = 0) -> np.ndarray:
+        """Position (order 0), dp/ds (1) or d²p/ds² (2) at local arc lengths ``s`` (mm), in xyz."""
+        s_arr = np.atleast_1d(np.asarray(s, dtype=float))
+        uvw = self._uvw(s_arr, order)
+        out = np.empty_like(uvw)
+        out[:, self._perm] = uvw
+        return out
+
+    def start_dir(self) -> np.ndarray:
+        """Unit tangent at the start, xyz."""
+        return _unit(self.eval(0.0, 1)[0])
+
+    def end_dir(self) -> np.ndarray:
+        """Unit tangent at the end, xyz."""
+        return _unit(self.eval(self.length, 1)[0])
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else v
+
+
+class SectionPath:
+    """A tangent-continuous run of segments as one path of arc length ``[0, L]`` mm.
+
+    Implements toppra's geometric-path protocol (duck-typed: toppra is not imported here).
+    At a knot the following element is used (right-continuous), except at the very end.
+    """
+
+    def __init__(self, segments: Sequence[Segment]) -> None:
+        self.evals = [SegmentEval(s) for s in segments]
+        lengths = np.array([e.length for e in self.evals])
+        self.knots = np.concatenate(([0.0], np.cumsum(lengths)))
+        self.length = float(self.knots[-1])
+
+    @property
+    def dof(self) -> int:
+        return 3
+
+    @property
+    def path_interval(self) -> np.ndarray:
+        return np.array([0.0, self.length])
+
+    @property
+    def waypoints(self) -> tuple[np.ndarray, np.ndarray]:
+        pts = np.array([e.eval(0.0)[0] for e in self.evals] + [self.evals[-1].eval(self.length_last)[0]])
+        return self.knots.copy(), pts
+
+    @property
+    def length_last(self) -> float:
+        return self.evals[-1].length
+
+    def segment_index(self, s: np.ndarray, left: bool = False) -> np.ndarray:
+        """Index of the segment holding each s (right-continuous unless ``left``)."""
+        side = "left" if left else "right"
+        idx = np.searchsorted(self.knots, s, side=side) - 1
+        return np.clip(idx, 0, len(self.evals) - 1)
+
+    def eval(self, s: np.ndarray, order: int = 0, seg_idx: np.ndarray | None = None) -> np.ndarray:
+        """Evaluate at section arc lengths ``s`` (mm); ``seg_idx`` forces the element per point."""
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        idx = self.segment_index(s) if seg_idx is None else seg_idx
+        out = np.empty((s.shape[0], 3))
+        for k in np.unique(idx):
+            m = idx == k
+            out[m] = self.evals[k].eval(s[m] - self.knots[k], order)
+        return out
+
+    def __call__(self, path_positions: np.ndarray | float, order: int = 0) -> np.ndarray:
+        scalar = np.isscalar(path_positions)
+        out = self.eval(np.asarray(path_positions, dtype=float), order)
+        return out[0] if scalar else out
+
+    def eval_many(self, s: np.ndarray, order: int = 0) -> np.ndarray:  # toppra <0.4 name
+        return self(s, order)
+
+
+def total_turn(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle between two unit vectors, rad."""
+    c = float(np.clip(np.dot(a, b), -1.0, 1.0))
+    return math.acos(c)
+
+
+class PathArrays:
+    """All segments of a tool path as flat arrays, for evaluation of many (segment, s) pairs.
+
+    Lines and arcs/helices are evaluated in closed form with one numpy expression for every
+    element at once; Poly elements fall back to :class:`SegmentEval`.
+    """
+
+    def __init__(self, segments: Sequence[Segment]) -> None:
+        n = len(segments)
+        self.n = n
+        self.evals = [SegmentEval(s) for s in segments]
+        self.length = np.array([e.length for e in self.evals])
+        self.start = np.concatenate(([0.0], np.cumsum(self.length)))[:-1]
+        self.kind = np.zeros(n, dtype=np.int8)  # 0 line, 1 arc, 2 poly
+        self.p0 = np.zeros((n, 3))
+        self.d = np.zeros((n, 3))
+        self.arc = np.zeros((n, 7))  # cu, cv, r, a0, dangle/ds, w0, dw/ds
+        self.perm = np.zeros((n, 3), dtype=np.int64)
+        for i, e in enumerate(self.evals):
+            self.perm[i] = e._perm
+            if e.kind == "line":
+                assert e._line is not None
+                self.p0[i], self.d[i] = e._line
+            elif e.kind == "arc":
+                assert e._arc is not None
+                cu, cv, r, a0, sweep, w0, w1 = e._arc
+                self.kind[i] = 1
+                self.arc[i] = (cu, cv, r, a0, sweep / e.length, w0, (w1 - w0) / e.length)
+            else:
+                self.kind[i] = 2
+        self.has_poly = bool(np.any(self.kind == 2))
+
+    def eval(self, iseg: np.ndarray, s_local: np.ndarray, order: int) -> np.ndarray:
+        """Position/derivative of order 0..2 in xyz at local arc length ``s_local`` of ``iseg``."""
+        n = s_local.shape[0]
+        uvw = np.zeros((n, 3))
+        kind = self.kind[iseg]
+        m = kind == 0
+        if np.any(m):
+            ii = iseg[m]
+            if order == 0:
+                uvw[m] = self.p0[ii] + s_local[m, None] * self.d[ii]
+            elif order == 1:
+                uvw[m] = self.d[ii]
+        m = kind == 1
+        if np.any(m):
+            ii = iseg[m]
+            cu, cv, r, a0, da, w0, dw = self.arc[ii].T
+            sl = s_local[m]
+            a = a0 + sl * da
+            ca, sa = np.cos(a), np.sin(a)
+            if order == 0:
+                uvw[m] = np.stack((cu + r * ca, cv + r * sa, w0 + dw * sl), axis=1)
+            elif order == 1:
+                uvw[m] = np.stack((-r * da * sa, r * da * ca, dw), axis=1)
+            else:
+                k = r * da * da
+                uvw[m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
+        out = np.empty_like(uvw)
+        rows = np.arange(n)[:, None]
+        out[rows, self.perm[iseg]] = uvw
+        m = kind == 2
+        if np.any(m):
+            for j in np.nonzero(m)[0]:
+                out[j] = self.evals[iseg[j]].eval(s_local[j], order)[0]
+        return out

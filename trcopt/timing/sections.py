@@ -1,0 +1,115 @@
+"""Splitting a tool path into sections at tangent discontinuities, and the per-segment limits.
+
+TOPP theory needs a tangent-continuous path: where the tangent jumps, exact path following with
+bounded acceleration forces the path speed to zero (spec timing.md §4.5). A *section* is a maximal
+run of segments whose joints are tangent within ``tangent_tol_rad``; every section starts and ends
+at rest and is solved independently (and may be solved in parallel).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import Machine
+from ..errors import TimingError
+from ..geometry.primitives import Arc
+from ..nc.model import Side
+from ..path import Role, Segment
+from .path import SegmentEval
+
+__all__ = ["Section", "split_sections", "segment_feeds", "axis_limits", "TANGENT_TOL_RAD"]
+
+TANGENT_TOL_RAD = 1e-6
+MIN_LENGTH_MM = 1e-9
+
+
+@dataclass(frozen=True, slots=True)
+class Section:
+    """Segments ``first..last`` (inclusive, indices into the tool path) joined tangentially."""
+
+    index: int
+    first: int
+    last: int
+    s_start: float  # arc length of the whole path at the section start, mm
+    length: float  # mm
+
+    @property
+    def segment_indices(self) -> range:
+        return range(self.first, self.last + 1)
+
+
+def axis_limits(machine: Machine) -> tuple[np.ndarray, np.ndarray]:
+    """(vmax, amax) per axis X, Y, Z as arrays, mm/s and mm/s²."""
+    v = np.array([machine.axis(k).vmax_mm_s for k in "XYZ"])
+    a = np.array([machine.axis(k).amax_mm_s2 for k in "XYZ"])
+    return v, a
+
+
+def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
+    """Path-speed limit of each segment at the tool centre, mm/s.
+
+    Rapids (``feed_mm_s is None``) run at the machine's rapid feed. With
+    ``machine.feed_reference == "contour"`` the programmed feed holds on the contour: on a
+    compensated arc the tool-centre feed is ``F·R_centre/R_contour`` (lines are unchanged;
+    corner transition circles, whose contour radius is zero, keep the programmed feed).
+    """
+    out = np.empty(len(segments))
+    for i, seg in enumerate(segments):
+        f = machine.rapid_mm_s if seg.feed_mm_s is None else float(seg.feed_mm_s)
+        if (
+            machine.feed_reference == "contour"
+            and seg.feed_mm_s is not None
+            and isinstance(seg.geometry, Arc)
+            and seg.side is not Side.OFF
+            and seg.radius > 0
+            and seg.role is not Role.CORNER
+        ):
+            g = seg.geometry
+            sign = 1.0 if seg.side is Side.LEFT else -1.0
+            r_contour = g.radius + sign * g.sense * seg.radius
+            if r_contour > 0:
+                f *= g.radius / r_contour
+        if not (f > 0 and math.isfinite(f)):
+            raise TimingError(
+                f"segment {i} has no positive feed ({f!r} mm/s); remedy: program a feed (F word)",
+                seg.span,
+                "TIMING-FEED",
+            )
+        out[i] = f
+    return out
+
+
+def split_sections(
+    segments: Sequence[Segment], evals: Sequence[SegmentEval], tangent_tol_rad: float = TANGENT_TOL_RAD
+) -> list[Section]:
+    """Cut the path at every tangent discontinuity (3D angle > ``tangent_tol_rad``)."""
+    if not segments:
+        return []
+    sections: list[Section] = []
+    first = 0
+    s0 = 0.0
+    acc = 0.0
+    for i, e in enumerate(evals):
+        if e.length <= MIN_LENGTH_MM:
+            raise TimingError(
+                f"section {len(sections)}: zero-length element at s={acc:.6f} mm (segment {i}, block "
+                f"{segments[i].span.block_label()}) cannot be time-parameterised; remedy: remove the "
+                "block or merge it with its neighbour",
+                segments[i].span,
+                "TIMING-ZERO-LENGTH",
+            )
+        acc += e.length
+        last = i == len(evals) - 1
+        if not last:
+            a, b = e.end_dir(), evals[i + 1].start_dir()
+            angle = math.acos(float(np.clip(np.dot(a, b), -1.0, 1.0)))
+            feed_changes_kind = segments[i].is_rapid != segments[i + 1].is_rapid
+        if last or angle > tangent_tol_rad or feed_changes_kind:
+            sections.append(Section(len(sections), first, i, s0, acc - s0))
+            first = i + 1
+            s0 = acc
+    return sections
