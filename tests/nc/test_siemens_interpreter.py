@@ -201,7 +201,11 @@ def test_modal_compensation_words():
     moves = only_moves("G451 DISC=20 KONTC CDON G462 G41 X1 F100\nG450 NORM CDOF2 G40 X2")
     c0, c1 = moves[0].comp, moves[1].comp
     assert (c0.corner.value, c0.disc, c0.approach.value, c0.collision.value, c0.strategy.value) == (
-        "G451", 20, "KONTC", "CDON", "G462"
+        "G451",
+        20,
+        "KONTC",
+        "CDON",
+        "G462",
     )
     assert (c1.corner.value, c1.approach.value, c1.collision.value) == ("G450", "NORM", "CDOF2")
     assert c1.disc == 20 and c1.side is Side.OFF and c1.side_programmed
@@ -366,7 +370,10 @@ def test_absolute_and_incremental_programs_agree(points):
     prev = (0.0, 0.0, 0.0)
     inc = []
     for p in points:
-        inc.append("G91 X=" + "{:.3f} Y={:.3f} Z={:.3f}".format(*(a - b for a, b in zip(p, prev, strict=True))))
+        inc.append(
+            "G91 X="
+            + "{:.3f} Y={:.3f} Z={:.3f}".format(*(a - b for a, b in zip(p, prev, strict=True)))
+        )
         prev = p
     a = only_moves("F100\n" + absolute)[1:]
     b = only_moves("F100\n" + "\n".join(inc))[1:]

@@ -198,7 +198,9 @@ def arc_centre_from_radius(
     return (start[0] + du / 2.0 + sign * h * nu, start[1] + dv / 2.0 + sign * h * nv)
 
 
-def arc_radius_mismatch(start: Vec2, end: Vec2, centre: Vec2, tol: float) -> tuple[float, float] | None:
+def arc_radius_mismatch(
+    start: Vec2, end: Vec2, centre: Vec2, tol: float
+) -> tuple[float, float] | None:
     """(start radius, end radius) when they differ by more than ``tol`` (mm), else None."""
     rs = math.hypot(start[0] - centre[0], start[1] - centre[1])
     re_ = math.hypot(end[0] - centre[0], end[1] - centre[1])

@@ -77,9 +77,7 @@ class LexedBlock(NamedTuple):
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)\Z")
 
 # keywords that contain digits and would otherwise split into address + number
-_DIGIT_KEYWORDS = (
-    "CUT2DF|CUT2D|CUT3DCCD|CUT3DCC|CUT3DC|CUT3DFF|CUT3DFS|CUT3DF|CDOF2"
-)
+_DIGIT_KEYWORDS = "CUT2DF|CUT2D|CUT3DCCD|CUT3DCC|CUT3DC|CUT3DFF|CUT3DFS|CUT3DF|CDOF2"
 
 _TOKEN = re.compile(
     r"""

@@ -21,9 +21,14 @@ def tool_kind(tool_type: int) -> str:
     """Family of a SINUMERIK tool type number: milling (1xx), drill (2xx), grinding (4xx),
     turning (5xx), slotting/special (7xx), or unspecified (0)."""
     family = int(tool_type) // 100
-    return {0: "unspecified", 1: "milling", 2: "drill", 4: "grinding", 5: "turning", 7: "special"}.get(
-        family, "other"
-    )
+    return {
+        0: "unspecified",
+        1: "milling",
+        2: "drill",
+        4: "grinding",
+        5: "turning",
+        7: "special",
+    }.get(family, "other")
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,19 +60,23 @@ class ToolEdge:
 
     @property
     def supports_trc(self) -> bool:
-        """False for drills (2xx) and turning/grinding tools (4xx/5xx), which 2D TRC does not handle."""
+        """False for drills (2xx) and turning/grinding tools (4xx/5xx): not for 2D TRC."""
         return self.kind not in ("drill", "grinding", "turning")
 
     @classmethod
     def from_value(cls, value: ToolEdge | Mapping[str, object]) -> ToolEdge:
-        """Accept a ToolEdge or a mapping with keys ``type``, ``radius``, ``wear`` (others rejected)."""
+        """Accept a ToolEdge or a mapping with keys ``type``, ``radius``, ``wear`` only."""
         if isinstance(value, ToolEdge):
             return value
         if not isinstance(value, Mapping):
-            raise TypeError(f"tool edge must be a ToolEdge or a mapping, got {type(value).__name__}")
+            raise TypeError(
+                f"tool edge must be a ToolEdge or a mapping, got {type(value).__name__}"
+            )
         unknown = set(value) - {"type", "radius", "wear"}
         if unknown:
-            raise ValueError(f"unknown tool edge key {sorted(unknown)[0]!r}; valid: type, radius, wear")
+            raise ValueError(
+                f"unknown tool edge key {sorted(unknown)[0]!r}; valid: type, radius, wear"
+            )
         return cls(
             type=int(value.get("type", 0)),  # type: ignore[call-overload]
             radius=float(value.get("radius", 0.0)),  # type: ignore[arg-type]
@@ -93,7 +102,7 @@ class ToolTable:
         return self._edges.get((tool, edge))
 
     def assign(self, parameter: int, tool: int, edge: int, value: float) -> bool:
-        """Apply ``$TC_DP<parameter>[tool, edge] = value``; False when the parameter is not modelled."""
+        """Apply ``$TC_DP<parameter>[tool, edge] = value``; False for a parameter not modelled."""
         name = _DP_FIELDS.get(parameter)
         if name is None:
             return False

@@ -71,7 +71,8 @@ class _Block:
 
     __slots__ = (
         "axes", "centre", "centre_col", "cr", "turn", "motion", "plane", "side", "t", "d",
-        "feed", "feed_col", "dwell", "sar", "disr", "discl", "disrp", "fad", "sar_params", "actions", "end",
+        "feed", "feed_col", "dwell", "sar", "disr", "discl", "disrp", "fad", "sar_params",
+        "actions", "end",
     )  # fmt: skip
 
     def __init__(self) -> None:
@@ -205,11 +206,16 @@ class SiemensReader:
     def _integer(self, word: Word, span: SourceSpan) -> int:
         value = self._number(word, span)
         if value != int(value) or value < 0:
-            raise fail("NC-SYNTAX", f"{word.name} needs a whole number, got {word.text!r}",
-                       self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs a whole number, got {word.text!r}",
+                self._at(span, word),
+            )
         return int(value)
 
-    def _positional(self, word: Word, span: SourceSpan, default_absolute: bool) -> tuple[float, bool]:
+    def _positional(
+        self, word: Word, span: SourceSpan, default_absolute: bool
+    ) -> tuple[float, bool]:
         """A coordinate word: (value in mm, absolute?) honouring ``=AC(..)`` / ``=IC(..)``."""
         value = word.value
         if type(value) is tuple:
@@ -218,8 +224,11 @@ class SiemensReader:
                 return inner * self.geom_scale, mode == "AC"
             if isinstance(inner, Expr):
                 self._number(Word(word.name, inner, word.column, word.text), span)
-            raise fail("NC-SYNTAX", f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
-                       self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
+                self._at(span, word),
+            )
         return self._number(word, span) * self.geom_scale, default_absolute
 
     def _keyword(self, word: Word, span: SourceSpan) -> None:
@@ -233,16 +242,22 @@ class SiemensReader:
         handler = _G_HANDLERS.get(g) if g == value else None
         if handler is None:
             if g == value and g in _GEOMETRY_G:
-                raise fail("NC-UNSUPPORTED", f"{word.text} is not supported by trcopt",
-                           self._at(span, word))  # fmt: skip
+                raise fail(
+                    "NC-UNSUPPORTED",
+                    f"{word.text} is not supported by trcopt",
+                    self._at(span, word),
+                )
             self._unsupported(word, b, span)
         else:
             handler(self, g, word, b, span)
 
     def _g_motion(self, g: int, word: Word, b: _Block, span: SourceSpan) -> None:
         if b.motion is not None:
-            raise fail("NC-SYNTAX", f"G{b.motion[0]} and {word.text} in one block (same group)",
-                       self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"G{b.motion[0]} and {word.text} in one block (same group)",
+                self._at(span, word),
+            )
         b.motion = (g, word.column)
 
     def _g_plane(self, g: int, word: Word, b: _Block, span: SourceSpan) -> None:
@@ -250,7 +265,7 @@ class SiemensReader:
 
     def _g_side(self, g: int, word: Word, b: _Block, span: SourceSpan) -> None:
         if b.side is not None:
-            raise fail("NC-SYNTAX", f"two of G40/G41/G42 in one block", self._at(span, word))
+            raise fail("NC-SYNTAX", "two of G40/G41/G42 in one block", self._at(span, word))
         b.side = (_SIDES[g], word.column)
 
     def _g_mode(self, g: int, word: Word, b: _Block, span: SourceSpan) -> None:
@@ -272,30 +287,43 @@ class SiemensReader:
         elif g == 94:
             pass
         elif g == 95:
-            self._warn("NC-G95", "feed per revolution not supported, treated as G94",
-                       self._at(span, word))  # fmt: skip
+            self._warn(
+                "NC-G95", "feed per revolution not supported, treated as G94", self._at(span, word)
+            )
         elif g == 4:
             b.dwell = True
             b.actions.append(word.text.upper())
 
     def _g_sar(self, g: int, word: Word, b: _Block, span: SourceSpan) -> None:
         if b.sar is not None:
-            raise AlarmError(alarm(10743, f"SAR programmed twice in one block (G{b.sar[0].value[1:]}"
-                                   f" and {word.text.upper()})", self._at(span, word)))  # fmt: skip
+            raise AlarmError(
+                alarm(
+                    10743,
+                    f"SAR programmed twice in one block (G{b.sar[0].value[1:]}"
+                    f" and {word.text.upper()})",
+                    self._at(span, word),
+                )
+            )
         b.sar = (_SAR_CONTOURS[g], word.column)
 
     def _axis(self, word: Word, b: _Block, span: SourceSpan) -> None:
         i = _AXES[word.name]
         if b.axes[i] is not None:
-            raise fail("NC-SYNTAX", f"address {word.name} programmed twice in one block",
-                       self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"address {word.name} programmed twice in one block",
+                self._at(span, word),
+            )
         b.axes[i] = self._positional(word, span, self.absolute)
 
     def _centre(self, word: Word, b: _Block, span: SourceSpan) -> None:
         i = _CENTRE[word.name]
         if b.centre[i] is not None:
-            raise fail("NC-SYNTAX", f"address {word.name} programmed twice in one block",
-                       self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"address {word.name} programmed twice in one block",
+                self._at(span, word),
+            )
         b.centre[i] = self._positional(word, span, False)
         b.centre_col = b.centre_col or word.column
 
@@ -342,8 +370,11 @@ class SiemensReader:
         limit = self.options.max_disc
         clamped = min(max(value, 0), limit)
         if clamped != value:
-            self._warn("NC-DISC-CLAMPED", f"DISC={value} clamped to {clamped} "
-                       f"(CUTCOM_MAX_DISC {limit})", self._at(span, word))  # fmt: skip
+            self._warn(
+                "NC-DISC-CLAMPED",
+                f"DISC={value} clamped to {clamped} (CUTCOM_MAX_DISC {limit})",
+                self._at(span, word),
+            )
         self.state.disc = clamped
 
     def _approach(self, word: Word, b: _Block, span: SourceSpan) -> None:
@@ -357,8 +388,11 @@ class SiemensReader:
     def _cut2d(self, word: Word, b: _Block, span: SourceSpan) -> None:
         self._keyword(word, span)
         if word.name == "CUT2DF":
-            self._warn("NC-UNSUPPORTED-WORD", "CUT2DF not supported (frame plane); "
-                       "compensating in the G17-G19 plane", self._at(span, word))  # fmt: skip
+            self._warn(
+                "NC-UNSUPPORTED-WORD",
+                "CUT2DF not supported (frame plane); compensating in the G17-G19 plane",
+                self._at(span, word),
+            )
             b.actions.append(word.text)
 
     def _sar_length(self, word: Word, b: _Block, span: SourceSpan) -> None:
@@ -379,14 +413,20 @@ class SiemensReader:
         if type(value) is tuple:
             mode, inner = value
             if mode not in ("PM", "PR") or type(inner) is not float:
-                raise fail("NC-SYNTAX", f"invalid value in {word.text!r} (expected PM(..) or "
-                           "PR(..))", self._at(span, word))  # fmt: skip
+                raise fail(
+                    "NC-SYNTAX",
+                    f"invalid value in {word.text!r} (expected PM(..) or PR(..))",
+                    self._at(span, word),
+                )
             value = inner
         else:
             value = self._number(word, span)
         if mode == "PR":
-            self._warn("NC-G95", "FAD=PR (feed per revolution) not supported; value kept in "
-                       "mm/rev", self._at(span, word))  # fmt: skip
+            self._warn(
+                "NC-G95",
+                "FAD=PR (feed per revolution) not supported; value kept in mm/rev",
+                self._at(span, word),
+            )
             b.fad = (float(value), mode)
         else:
             b.fad = (float(value) * self.feed_scale / 60.0, mode)
@@ -410,12 +450,18 @@ class SiemensReader:
 
     def _unsupported(self, word: Word, b: _Block, span: SourceSpan) -> None:
         if word.name in _GEOMETRY_WORDS:
-            raise fail("NC-UNSUPPORTED", f"{word.name} is not supported by trcopt (it would "
-                       "change the geometry)", self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-UNSUPPORTED",
+                f"{word.name} is not supported by trcopt (it would change the geometry)",
+                self._at(span, word),
+            )
         if word.value is None and word.index is None and len(word.name) == 1:
             raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
-        self._warn("NC-UNSUPPORTED-WORD", f"{word.text} is not supported by trcopt (ignored)",
-                   self._at(span, word))  # fmt: skip
+        self._warn(
+            "NC-UNSUPPORTED-WORD",
+            f"{word.text} is not supported by trcopt (ignored)",
+            self._at(span, word),
+        )
         b.actions.append(word.text)
 
     def _system_variable(self, word: Word, b: _Block, span: SourceSpan) -> None:
@@ -444,8 +490,12 @@ class SiemensReader:
         except ValueError:
             values = ()
         if len(values) != count or min(values) < 0:
-            raise fail("NC-SYNTAX", f"{word.name} needs {count} whole-number index"
-                       f"{'es' if count > 1 else ''}, got [{word.index}]", self._at(span, word))  # fmt: skip
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs {count} whole-number index"
+                f"{'es' if count > 1 else ''}, got [{word.index}]",
+                self._at(span, word),
+            )
         return values
 
     # ------------------------------------------------------------------ block completion
@@ -455,9 +505,14 @@ class SiemensReader:
         if b.plane is not None:
             plane, col = b.plane
             if plane is not st.plane and st.side is not Side.OFF:
-                raise AlarmError(alarm(10757, f"plane change {st.plane.value} -> {plane.value} "
-                                       "while tool radius compensation is active",
-                                       SourceSpan(self.file, span.line, col, span.block)))  # fmt: skip
+                raise AlarmError(
+                    alarm(
+                        10757,
+                        f"plane change {st.plane.value} -> {plane.value} "
+                        "while tool radius compensation is active",
+                        SourceSpan(self.file, span.line, col, span.block),
+                    )
+                )
             st.plane = plane
         if b.t is not None:
             st.tool = b.t
@@ -470,14 +525,19 @@ class SiemensReader:
             if side is not Side.OFF:
                 edge = st.active_edge()
                 if edge is not None and not edge.supports_trc:
-                    raise fail("NC-TOOL-TYPE", f"unsupported tool type for TRC: tool type "
-                               f"{edge.type} ({edge.kind})", SourceSpan(self.file, span.line, col,
-                               span.block))  # fmt: skip
+                    raise fail(
+                        "NC-TOOL-TYPE",
+                        f"unsupported tool type for TRC: tool type {edge.type} ({edge.kind})",
+                        SourceSpan(self.file, span.line, col, span.block),
+                    )
             st.side = side
         if b.feed is not None and not b.dwell:  # with G4, F is the dwell time
             if b.feed <= 0.0:
-                raise fail("NC-SYNTAX", f"feed must be positive, got F{b.feed:g}",
-                           SourceSpan(self.file, span.line, b.feed_col, span.block))  # fmt: skip
+                raise fail(
+                    "NC-SYNTAX",
+                    f"feed must be positive, got F{b.feed:g}",
+                    SourceSpan(self.file, span.line, b.feed_col, span.block),
+                )
             st.feed_mm_s = b.feed * self.feed_scale / 60.0
         if b.motion is not None:
             st.motion = _MOTION[b.motion[0]]
@@ -506,8 +566,11 @@ class SiemensReader:
         elif any(written):
             kind = motion
             if has_centre:
-                self._warn("NC-UNSUPPORTED-WORD", "circle centre/radius outside G2/G3 ignored",
-                           SourceSpan(self.file, span.line, b.centre_col, span.block))  # fmt: skip
+                self._warn(
+                    "NC-UNSUPPORTED-WORD",
+                    "circle centre/radius outside G2/G3 ignored",
+                    SourceSpan(self.file, span.line, b.centre_col, span.block),
+                )
         else:
             kind = MoveKind.NONE
         sar = None
@@ -524,8 +587,11 @@ class SiemensReader:
             )
         elif b.sar_params:
             w = b.sar_params[0]
-            self._warn("NC-SAR-PARAM", f"{w.name} without G147/G148/G247/G248/G347/G348 in the "
-                       "block is ignored", self._at(span, w))  # fmt: skip
+            self._warn(
+                "NC-SAR-PARAM",
+                f"{w.name} without G147/G148/G247/G248/G347/G348 in the block is ignored",
+                self._at(span, w),
+            )
         if kind is MoveKind.RAPID or (kind is MoveKind.NONE and motion is MoveKind.RAPID):
             feed = None
         else:
@@ -577,11 +643,15 @@ class SiemensReader:
         else:
             u, v, w = plane.axes
             if not any(b.centre[i] is not None for i in (u, v)):
-                raise fail("NC-ARC-CENTRE", "circle without centre (I/J/K) or radius (CR=)",
-                           col_span)  # fmt: skip
+                raise fail(
+                    "NC-ARC-CENTRE", "circle without centre (I/J/K) or radius (CR=)", col_span
+                )
             if b.centre[w] is not None:
-                self._warn("NC-UNSUPPORTED-WORD", f"centre word {'IJK'[w]} on the applicate "
-                           f"({plane.value}) ignored", col_span)  # fmt: skip
+                self._warn(
+                    "NC-UNSUPPORTED-WORD",
+                    f"centre word {'IJK'[w]} on the applicate ({plane.value}) ignored",
+                    col_span,
+                )
             coords = []
             for i, s in ((u, su), (v, sv)):
                 c = b.centre[i]
@@ -589,13 +659,18 @@ class SiemensReader:
             cu, cv = coords
         radius_start = math.hypot(su - cu, sv - cv)
         if radius_start <= self.tol.coincidence_mm:
-            raise fail("NC-ARC-RADIUS", "circle radius is zero (centre at the start point)",
-                       col_span)  # fmt: skip
+            raise fail(
+                "NC-ARC-RADIUS", "circle radius is zero (centre at the start point)", col_span
+            )
         mismatch = arc_radius_mismatch((su, sv), (eu, ev), (cu, cv), tol)
         if mismatch is not None:
-            raise fail("NC-ARC-RADIUS", f"arc end point not on the circle: start radius "
-                       f"{mismatch[0]:.4f} mm, end radius {mismatch[1]:.4f} mm (difference "
-                       f"{abs(mismatch[0] - mismatch[1]):.4f} > {tol} mm)", col_span)  # fmt: skip
+            raise fail(
+                "NC-ARC-RADIUS",
+                f"arc end point not on the circle: start radius "
+                f"{mismatch[0]:.4f} mm, end radius {mismatch[1]:.4f} mm (difference "
+                f"{abs(mismatch[0] - mismatch[1]):.4f} > {tol} mm)",
+                col_span,
+            )
         return plane.to_xyz((cu, cv, sw))
 
 
