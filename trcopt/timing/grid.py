@@ -32,7 +32,7 @@ GROWTH = 0.25
 DTHETA_ACC = 0.0125
 DTHETA_FEED = 0.1
 LINE_CAP_MM = 5.0
-POLY_CAP_MM = 0.5
+POLY_CAP_MM = 0.2
 KNOT_EPS_MM = 1e-6
 
 __all__ = ["segment_grid", "KNOT_EPS_MM"]

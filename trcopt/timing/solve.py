@@ -15,7 +15,6 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from ..config import DEFAULT_MACHINE, Machine
-from ..errors import TimingError
 from ..path import Segment
 from .grid import segment_grid
 from .path import PathArrays
@@ -139,7 +138,7 @@ def _solve_own(
     f2 = feeds[iseg] ** 2
 
     def cap(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore"):
             vel = ((vmax[None, :] / np.abs(d1)) ** 2).min(axis=1)
         return np.minimum(np.minimum(vel, f2), mvc_bound(d1, d2, a_int))
 
@@ -195,7 +194,7 @@ def _expand_lines(
     Xv = np.full((m, 3), np.nan)
     S[:, 0], Xv[:, 0] = s[:-1], x[:-1]
     if np.any(is_line):
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore"):
             ad = np.abs(d1)
             acc = (amax[None, :] / ad).min(axis=1)
             xv = np.minimum(((vmax[None, :] / ad) ** 2).min(axis=1), f2)
@@ -218,7 +217,3 @@ def _expand_lines(
     out_x = np.append(Xv[valid], x[-1])
     out_seg = np.repeat(iseg, valid.sum(axis=1))
     return out_s, out_x, out_seg
-
-
-def _unused() -> None:  # keep TimingError imported for type checkers of callers
-    raise TimingError("unreachable")

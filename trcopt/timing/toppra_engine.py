@@ -20,7 +20,9 @@ from .grid import KNOT_EPS_MM, segment_grid
 from .path import SectionPath
 from .sections import Section
 
-__all__ = ["section_grid_toppra", "solve_section_toppra"]
+__all__ = ["section_grid_toppra", "solve_section_toppra", "CURVED_ACC_MARGIN"]
+
+CURVED_ACC_MARGIN = 0.9985
 
 
 def section_grid_toppra(path: SectionPath, feeds: np.ndarray, amin: float) -> np.ndarray:
@@ -62,6 +64,10 @@ def solve_section_toppra(
 
     segs = list(segments)
     path = SectionPath(segs)
+    if any(e.kind != "line" for e in path.evals):
+        # toppra checks the rows at grid points only; curvature turning inside an interval can
+        # raise the per-axis acceleration between them (≤ 1/cos(Δθ/2) on arcs): keep a margin
+        amax = amax * CURVED_ACC_MARGIN
     if grid is None:
         grid = section_grid_toppra(path, feeds, float(amax.min()))
     knots = path.knots
