@@ -99,6 +99,10 @@ class Elem:
 
     @property
     def role(self) -> Role:
+        if self.move.origin == "approach":
+            return Role.APPROACH
+        if self.move.origin == "retract":
+            return Role.RETRACT
         if self.kind is ElemKind.APPROACH:
             return Role.APPROACH
         if self.kind is ElemKind.RETRACT:

@@ -106,7 +106,11 @@ def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
     if m.kind is MoveKind.NONE or (m.start == m.end and m.kind is not MoveKind.ARC):
         return None
     geom = make_programmed_geometry(m)
-    if m.kind is MoveKind.RAPID:
+    if m.origin == "approach":
+        role = Role.APPROACH
+    elif m.origin == "retract":
+        role = Role.RETRACT
+    elif m.kind is MoveKind.RAPID:
         role = Role.RAPID
     elif geom.plane_length <= tol and m.kind is MoveKind.LINE:
         role = Role.POSITIONING
@@ -186,7 +190,8 @@ class Compensator:
                     raise self._alarm(10757, "plane change while tool radius compensation is active", m.span)
                 dummies.append(m)
                 limit = self.settings.cutcom_maxnum_dummy_blocks
-                if sum(1 for d in dummies if d.kind is not MoveKind.NONE or d.actions) > limit:
+                # generated lead sub-blocks (SAR P1→P2→P3) do not count against MD20250 (§D-20)
+                if sum(1 for d in dummies if not d.origin) > limit:
                     raise self._alarm(
                         10762, f"too many blocks without plane motion in a row (> MD20250 = {limit})", m.span
                     )

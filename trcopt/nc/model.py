@@ -185,6 +185,7 @@ class Move:
     actions: tuple[str, ...] = ()
     sar: SarSpec | None = None
     plane_programmed: bool = True  # the block wrote at least one plane axis (R3.4, R45)
+    origin: str = ""  # "approach"/"retract" for generated lead sub-moves (SAR, APPR/DEP); "" otherwise
 
 
 @dataclass(frozen=True, slots=True)
