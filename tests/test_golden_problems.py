@@ -1,4 +1,9 @@
-"""The golden suite: every worked example of sinumerik_trc.md §C as a problem with expected data."""
+"""The golden suite: every problem under problems/<dialect>/ that has ``<name>.expected.json``.
+
+Expected file format: ``{"source": why these numbers, "ok": bool, "alarms": [[severity,
+alarm-number-or-code, block], ...], "tolerance_mm": float, "toolpath": [[kind, block, start,
+end, centre-or-null], ...]}`` with 2- or 3-component points (2 = compare x, y only).
+"""
 
 from __future__ import annotations
 
@@ -10,8 +15,19 @@ import pytest
 from gouge import gouges
 from trcopt.pipeline import PlanOptions, plan_file
 
-PROBLEMS = Path(__file__).resolve().parents[1] / "problems" / "siemens"
-CASES = sorted(p.with_suffix("").with_suffix("") for p in PROBLEMS.glob("*.expected.json"))
+PROBLEMS = Path(__file__).resolve().parents[1] / "problems"
+PROGRAM_SUFFIXES = (".mpf", ".spf", ".h", ".ngc")
+
+
+def _program(stem: Path) -> Path:
+    for suffix in PROGRAM_SUFFIXES:
+        if stem.with_suffix(suffix).exists():
+            return stem.with_suffix(suffix)
+    raise FileNotFoundError(f"no program for {stem}")
+
+
+CASES = sorted(p.with_suffix("").with_suffix("") for p in PROBLEMS.glob("*/*.expected.json"))
+IDS = [f"{c.parent.name}/{c.name}" for c in CASES]
 
 
 def _xy(v):
@@ -22,10 +38,10 @@ def _close(actual, expected, tol):
     return len(expected) <= len(actual) and all(abs(a - e) <= tol for a, e in zip(actual, expected))
 
 
-@pytest.mark.parametrize("stem", CASES, ids=[c.name for c in CASES])
+@pytest.mark.parametrize("stem", CASES, ids=IDS)
 def test_golden_problem(stem: Path) -> None:
     expected = json.loads(stem.with_suffix(".expected.json").read_text())
-    result = plan_file(stem.with_suffix(".mpf"), PlanOptions(timing=False))
+    result = plan_file(_program(stem), PlanOptions(timing=False))
     tol = expected["tolerance_mm"]
     got = [(s.kind, s.span.block, s.start_xyz, s.end_xyz, s.center_xyz) for s in result.toolpath]
     assert len(got) == len(expected["toolpath"]), "\n".join(map(str, got))
@@ -47,9 +63,9 @@ def test_golden_problem(stem: Path) -> None:
     assert result.ok is expected["ok"]
 
 
-@pytest.mark.parametrize("stem", CASES, ids=[c.name for c in CASES])
+@pytest.mark.parametrize("stem", CASES, ids=IDS)
 def test_golden_problem_does_not_gouge(stem: Path) -> None:
-    result = plan_file(stem.with_suffix(".mpf"), PlanOptions(timing=False))
+    result = plan_file(_program(stem), PlanOptions(timing=False))
     found = gouges(result.programmed, result.toolpath)
     if any(d.code == "TRC-CONTOUR-VIOLATION" for d in result.diagnostics):
         # CDOF runs the reversed offset as the controller does: the independent check must see it
