@@ -11,9 +11,10 @@ and ``0 ≤ x_i ≤ x̄_i`` where ``x̄`` is the velocity box, the feed and the 
 maximum-velocity curve, with ``x_0 = x_N = 0``.
 
 Each interval couples only ``(x_i, x_{i+1})``: its rows are written ``α·x_i + β·y ≤ γ``
-(``y = x_{i+1}``). The backward pass computes the largest ``x_i`` compatible with
-``y = B_{i+1}``, the forward pass the largest ``y ≤ B_{i+1}`` compatible with ``x_i = F_i``: the
-same greedy passes as TOPP-RA, but each step is a 1-D bound computation instead of a 2-D LP,
+(``y = x_{i+1}``). The backward pass computes the largest ``x_i`` compatible with some
+``y ≤ B_{i+1}``, the forward pass the largest ``y ≤ B_{i+1}`` compatible with ``x_i = F_i``: the
+same passes as TOPP-RA; on lines each step is a 1-D bound computation, on arcs an exact 2-D LP
+by Fourier–Motzkin elimination of y,
 done for all sections of similar length at once (lock-step numpy). The forward pass checks every
 lower bound; a step that is infeasible is reported per section so the caller can hand the section
 to toppra (that never happened in the benchmark suite).
@@ -70,7 +71,7 @@ def mvc_bound(d1: np.ndarray, d2: np.ndarray, amax: np.ndarray) -> np.ndarray:
 
 
 def solve_lockstep(
-    alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray, xmax: np.ndarray
+    alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray, xmax: np.ndarray, curved: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Backward and forward greedy passes for G sections padded to the same interval count.
 
@@ -80,6 +81,9 @@ def solve_lockstep(
         (G, N, 12) interval rows; padding intervals carry zero rows and γ > 0.
     xmax:
         (G, N+1) upper bounds on x (0 at section ends and on padding).
+    curved:
+        (G, N) True for intervals with curvature (the backward step is then an exact 2-D LP by
+        Fourier–Motzkin elimination; on lines the rows are lattice rows and y = B_{i+1} is optimal).
 
     Returns
     -------
@@ -89,10 +93,11 @@ def solve_lockstep(
         (G,) True where a forward step found no feasible value (the section needs toppra).
     """
     G, N, _ = alpha.shape
+    if curved is None:
+        curved = np.ones((G, N), dtype=bool)
     B = np.empty((G, N + 1))
     B[:, N] = xmax[:, N]
     tiny = 1e-12
-    rows = np.arange(G)
     for i in range(N - 1, -1, -1):
         a = alpha[:, i]
         b = beta[:, i]
@@ -100,12 +105,12 @@ def solve_lockstep(
         rhs = gamma[:, i] - b * K[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             ubk = np.where(a > tiny, rhs / a, np.inf)
-        k = ubk.argmin(axis=1)
-        ub = ubk[rows, k]
-        # the binding row gets looser for smaller y (not a lattice row): maximise over y ∈ [0, K]
-        dec = (b[rows, k] > tiny) & np.isfinite(ub)
-        if np.any(dec):
-            ub[dec] = _max_x_over_y(a[dec], b[dec], gamma[dec, i], K[dec])
+        ub = ubk.min(axis=1)
+        # curved intervals need not be lattice rows (a smaller y may allow a larger x, or an
+        # upper bound on y may depend on x): solve the 2-variable LP exactly there
+        cur = curved[:, i]
+        if np.any(cur):
+            ub[cur] = _max_x_over_y(a[cur], b[cur], gamma[cur, i], K[cur])
         B[:, i] = np.maximum(np.minimum(xmax[:, i], ub), 0.0)
     F = np.empty((G, N + 1))
     F[:, 0] = np.minimum(B[:, 0], xmax[:, 0])
@@ -125,28 +130,27 @@ def solve_lockstep(
 
 
 def _max_x_over_y(a: np.ndarray, b: np.ndarray, g: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """max over y ∈ [0, K] of min over rows with a > 0 of (g − b·y)/a  (rows (n, m)).
+    """Exact ``max x`` over ``{(x, y): a·x + b·y ≤ g (rows), 0 ≤ y ≤ K}`` (Fourier–Motzkin on y).
 
-    The lines increasing in y (b < 0) and decreasing (b > 0) cross at most once pairwise; the
-    optimum is the minimum over (increasing, decreasing) pairs of their clipped crossing value.
+    Rows with b > 0 bound y from above by ``U(x)``, rows with b < 0 from below by ``L(x)``;
+    ``x`` is feasible iff every ``L ≤ U``, each pair giving one linear bound on x.
     """
     tiny = 1e-12
-    up = a > tiny
+    n = a.shape[0]
+    up = b > tiny
+    lo = b < -tiny
     with np.errstate(divide="ignore", invalid="ignore"):
-        c = np.where(up, g / a, np.inf)  # value at y = 0
-        m = np.where(up, -b / a, 0.0)  # slope in y
-    inc = up & (m > 0)
-    dec = up & (m < 0)
-    flat = up & ~inc & ~dec
-    const = np.where(flat, c, np.inf).min(axis=1)
-    # virtual increasing line (huge, nearly flat) covers the case without increasing rows
-    big = 1e300
-    ci = np.concatenate((np.where(inc, c, big), np.full((a.shape[0], 1), big)), axis=1)
-    mi = np.concatenate((np.where(inc, m, 1e-300), np.full((a.shape[0], 1), 1e-300)), axis=1)
-    cd = np.where(dec, c, big)
-    md = np.where(dec, m, -1e-300)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        y = (cd[:, None, :] - ci[:, :, None]) / (mi[:, :, None] - md[:, None, :])
-        y = np.clip(np.nan_to_num(y, nan=0.0, posinf=0.0, neginf=0.0), 0.0, K[:, None, None])
-        val = np.minimum(ci[:, :, None] + mi[:, :, None] * y, cd[:, None, :] + md[:, None, :] * y)
-    return np.minimum(const, val.reshape(a.shape[0], -1).min(axis=1))
+        cu = np.where(up, g / b, np.inf)
+        mu = np.where(up, -a / b, 0.0)
+        cl = np.where(lo, g / b, -np.inf)
+        ml = np.where(lo, -a / b, 0.0)
+        cu = np.concatenate((cu, K[:, None]), axis=1)
+        mu = np.concatenate((mu, np.zeros((n, 1))), axis=1)
+        cl = np.concatenate((cl, np.zeros((n, 1))), axis=1)
+        ml = np.concatenate((ml, np.zeros((n, 1))), axis=1)
+        num = cu[:, None, :] - cl[:, :, None]
+        den = ml[:, :, None] - mu[:, None, :]
+        bound = np.where(den > tiny, num / np.where(den > tiny, den, 1.0), np.inf)
+        flat = (~up) & (~lo) & (a > tiny)
+        direct = np.where(flat, g / np.where(flat, a, 1.0), np.inf).min(axis=1)
+    return np.minimum(direct, bound.reshape(n, -1).min(axis=1))

@@ -136,6 +136,7 @@ def _solve_own(
     a_int = amax[None, :] * tighten[:, None]
     alpha, beta, gamma = interval_rows(d1l, d2l, d1r, d2r, delta, a_int)
     f2 = feeds[iseg] ** 2
+    curved = arrays.kind[iseg] != 0
 
     def cap(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
         with np.errstate(divide="ignore", over="ignore"):
@@ -162,14 +163,16 @@ def _solve_own(
         Bt = np.zeros((G, N, 12))
         C = np.ones((G, N, 12))
         X = np.zeros((G, N + 1))
+        CV = np.zeros((G, N), dtype=bool)
         for r, q in enumerate(group):
             a, b = offsets[q], offsets[q + 1]
             m = b - a
+            CV[r, :m] = curved[a:b]
             A[r, :m], Bt[r, :m], C[r, :m] = alpha[a:b], beta[a:b], gamma[a:b]
             xm = np.minimum(np.append(cap_l[a:b], np.inf), np.insert(cap_r[a:b], 0, np.inf))
             xm[0] = xm[m] = 0.0
             X[r, : m + 1] = xm
-        x, bad = solve_lockstep(A, Bt, C, X)
+        x, bad = solve_lockstep(A, Bt, C, X, CV)
         for r, q in enumerate(group):
             sec = secs[q]
             if bad[r]:
