@@ -42,11 +42,15 @@ __all__ = [
     "fit_limits",
     "frame_matrix",
     "CONE_EPS",
+    "DOUBLE_EPS",
     "FREE_EPS",
 ]
 
-#: Tolerance on γ² of the cone intersection (spec §6.2) and on the one-axis cone condition.
-CONE_EPS = 1e-12
+#: Tolerance of the cone equations (spec REQ-TH-08): how far a requested direction may miss the
+#: reachable set and still count as the boundary (one double solution).
+CONE_EPS = 1e-9
+#: Below this ``γ²·|a×b|²`` the two solutions coincide to rounding and are reported as one.
+DOUBLE_EPS = 1e-15
 #: Below this length the component of a vector normal to a rotary axis is zero: the angle is free.
 FREE_EPS = 1e-9
 _PARALLEL_EPS = 1e-12
@@ -234,17 +238,26 @@ def _signed_angle(a: np.ndarray, u: np.ndarray, x: np.ndarray) -> float | None:
 def _cone_intersection(
     a: np.ndarray, ca: float, b: np.ndarray, cb: float
 ) -> tuple[list[np.ndarray], float]:
-    """Unit vectors x with ``a·x = ca`` and ``b·x = cb`` for non-parallel unit a, b (§6.2)."""
+    """Unit vectors x with ``a·x = ca`` and ``b·x = cb`` for non-parallel unit a, b (§6.2).
+
+    The tolerances act on ``h = γ²·|a×b|² = 1 − |αa + βb|²``: ``h < −CONE_EPS`` → no solution
+    (the cones miss by more than the cone-equation tolerance); ``h ≤ DOUBLE_EPS`` → one double
+    solution (the normalised base point, which satisfies both cone equations to rounding); else
+    two. A tiny positive threshold keeps nearly coincident but distinct solutions apart: collapsing
+    them would violate the cone equations of narrow cones.
+    """
     k = float(a @ b)
     s2 = 1.0 - k * k
     al = (ca - cb * k) / s2
     be = (cb - ca * k) / s2
     n = np.cross(a, b)
-    g2 = (1.0 - al * al - be * be - 2.0 * al * be * k) / float(n @ n)
+    nn = float(n @ n)
     base = al * a + be * b
-    if g2 < -CONE_EPS:
+    h = 1.0 - float(base @ base)
+    g2 = h / nn
+    if h < -CONE_EPS:
         return [], g2
-    if g2 <= CONE_EPS:
+    if h <= DOUBLE_EPS:
         return [base / np.linalg.norm(base)], g2
     g = math.sqrt(g2)
     return [base + g * n, base - g * n], g2
