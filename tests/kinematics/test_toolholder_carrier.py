@@ -50,7 +50,8 @@ def test_assignments_fill_every_field() -> None:
 
 
 def test_fine_offsets_can_be_disabled() -> None:
-    c = carrier_from_assignments({3: 10.0, 43: 0.5, 24: 90.0, 64: 1.0}, 1, fine_offsets_enabled=False)
+    values: dict[int, float | str] = {3: 10.0, 43: 0.5, 24: 90.0, 64: 1.0}
+    c = carrier_from_assignments(values, 1, fine_offsets_enabled=False)
     np.testing.assert_allclose(c.offsets[0], (0, 0, 10.0))
     assert c.axis_offsets == (90.0, 0.0)
 

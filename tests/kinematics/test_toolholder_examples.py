@@ -189,7 +189,9 @@ def test_e5_mixed_kinematics() -> None:
     np.testing.assert_allclose(sel.inverse.direction, (0.353553, -0.353553, 0.866025), atol=1e-6)
     np.testing.assert_allclose(pairs(sel), [(30, 45), (-30, -135)], atol=1e-9)
     assert_forward_exact(E5, sel.inverse)
-    np.testing.assert_allclose(resulting_tool_length(E5, 30, 45, L100), (110, 0, 70.5256), atol=1e-4)
+    np.testing.assert_allclose(
+        resulting_tool_length(E5, 30, 45, L100), (110, 0, 70.5256), atol=1e-4
+    )
     np.testing.assert_allclose(table_offset(E5, 30, 45), (64.6447, -56.0660, 0), atol=1e-4)
     np.testing.assert_allclose(
         resulting_tool_length(E5, -30, -135, L100), (-110, 0, 70.5256), atol=1e-4

@@ -64,9 +64,10 @@ def test_tool_length_vector_rejects_four_values() -> None:
 def test_axis_offset_sign_reading_r2() -> None:
     # θ = α − offset: at α = offset the described geometry holds
     c = Carrier(v1=(1, 0, 0), axis_offset1=90.0)
-    np.testing.assert_allclose(resulting_tool_length(c, 90, 0, (0, 0, 100)), (0, 0, 100), atol=1e-12)
+    lt = (0, 0, 100)
+    np.testing.assert_allclose(resulting_tool_length(c, 90, 0, lt), (0, 0, 100), atol=1e-12)
     # the alternative reading θ = α + offset would give (0, −100, 0) at A = 0; we give (0, 100, 0)
-    np.testing.assert_allclose(resulting_tool_length(c, 0, 0, (0, 0, 100)), (0, 100, 0), atol=1e-12)
+    np.testing.assert_allclose(resulting_tool_length(c, 0, 0, lt), (0, 100, 0), atol=1e-12)
 
 
 def test_wear_modes() -> None:

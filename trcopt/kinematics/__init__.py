@@ -8,6 +8,40 @@
 * :mod:`.cli` — the ``trcopt orient`` subcommand.
 
 Angles in degrees, lengths in mm throughout.
+
+Readings of ``spec/toolholder.md`` where it is silent or ambiguous (its R-numbers in brackets):
+
+* rotations are right-handed about the normalised axis vector; zero vector = axis absent;
+  geometric angle ``θ = α − offset`` with offset ``$TC_CARR24/25`` (+ fine 64/65) [R2];
+* fine offsets (index k + 40) are added unless ``fine_offsets_enabled = false`` [R1];
+* G19 initial tool direction +X [R3]; TCOFRX/Y align tool x/y with frame x/y [R6];
+* l1 is ignored for type P and l4 for type T, with a warning; open chains are allowed and act as
+  a constant offset, with a warning ``TH-CHAIN-OPEN`` [R4, R5];
+* no Siemens numbers were found except 14153, so the other errors carry project codes:
+  ``TH-UNREACHABLE``, ``TH-NO-VALID-SOLUTION``, ``TH-LIMIT``, ``TH-UNDEFINED-PARAM``,
+  ``TH-VALUE``, ``TH-UNKNOWN-HOLDER`` [R7]; one axis and an unreachable direction is an error,
+  never an approximation [R8];
+* processing order: shift toward the specified angle → Hirth → order → limits [R9]; Hirth rounds
+  to the nearest grid value, ties toward the specified angle [R10]; "closest" is the L1 distance
+  of the two angles, ties by |α1 − ref1|, then lexicographic [R11]; of several ±k·360°
+  candidates inside the limits the one nearest the specified angle is kept, an angle already
+  inside is never moved [R12]; ``$P_TCANG[0]``, ``$P_TCSOL``, ``$P_TCDIFF`` follow the spec's
+  project convention (NaN for a missing second pair; ``null`` in JSON) [R13];
+* free angles (axis parallel to the vector it turns; parallel axes, where only a combination is
+  fixed) take the specified angle and are not shifted; a missing axis keeps its specified angle;
+* TCOABS angles are limit-checked (±k·360°) but not Hirth-rounded (they are given positions);
+* the cone tolerance ``CONE_EPS = 1e-9`` lets a direction that misses the reachable set by less
+  than that count as the boundary (one solution); two solutions closer than rounding
+  (``γ²|a×b|² ≤ 1e-15``) are reported as one;
+* known limitation: an axis within ~1e-8 rad of (but not exactly) parallel to the vector it
+  turns loses precision in floating point (residual of the order of that angle);
+* ``trcopt orient`` reports the tool vector for the spec's reference milling tool L1 = 100 mm
+  unless ``--tool-length`` is given; :func:`evaluate_toolholder` uses the tool lengths it is
+  given (default zero: the holder's own contribution);
+* in a program, group 42 starts as TCOABS; TCOFR reads the programmed ROT/AROT rotation at
+  selection time (identity when none: the tool stays along +Z); later frame changes do not move
+  the holder [REQ-TH-14]; words of one block act together (TCARR after the modal words);
+  alarm 14153 is raised when ``TCARR=m`` selects the block, with that block's line and number.
 """
 
 from __future__ import annotations

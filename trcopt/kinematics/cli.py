@@ -110,7 +110,9 @@ def _load(args: argparse.Namespace) -> Carrier:
     else:
         m = args.holder
         if m not in carriers:
-            raise ConfigError(f"{path}: toolholder {m} is not defined (defined: {sorted(carriers)})")
+            raise ConfigError(
+                f"{path}: toolholder {m} is not defined (defined: {sorted(carriers)})"
+            )
     return carrier_from_assignments(carriers[m], m, SourceSpan(file=str(path)))
 
 

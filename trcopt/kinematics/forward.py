@@ -128,7 +128,9 @@ def tool_length_vector(
     return out
 
 
-def holder_rotations(carrier: Carrier, angle1: float, angle2: float) -> tuple[np.ndarray, np.ndarray]:
+def holder_rotations(
+    carrier: Carrier, angle1: float, angle2: float
+) -> tuple[np.ndarray, np.ndarray]:
     """``(R1, R2)`` for axis positions ``angle1, angle2`` [deg] (``θi = αi − offset_i``)."""
     off1, off2 = carrier.axis_offsets
     return (rotation(carrier.v1, angle1 - off1), rotation(carrier.v2, angle2 - off2))

@@ -354,9 +354,9 @@ def inverse_solutions(
                 # θb kept at the specified angle, so axis ib is reported free
                 pair = to_pair(ta, None)
                 pairs, kind = [pair], SolutionKind.INFINITE
-                note = "parallel rotary axes: infinitely many pairs; axis %d kept at %g deg" % (
-                    ib,
-                    reference[ib - 1],
+                note = (
+                    f"parallel rotary axes: infinitely many pairs; axis {ib} kept at "
+                    f"{reference[ib - 1]:g} deg"
                 )
             else:
                 note = "parallel rotary axes: the requested direction is not reachable"
@@ -367,7 +367,8 @@ def inverse_solutions(
             if not xs:
                 note = f"the cones of the two axes do not meet (gamma^2 = {gamma2:.3e} < 0)"
             elif any(p.free1 or p.free2 for p in pairs):
-                kind, note = SolutionKind.FREE, "a rotary axis is parallel to the direction it turns"
+                kind = SolutionKind.FREE
+                note = "a rotary axis is parallel to the direction it turns"
             elif len(xs) == 1:
                 kind, note = SolutionKind.ONE, "boundary orientation: one double solution"
             else:
@@ -544,7 +545,9 @@ def select_solution(
                 "also after +-k*360 deg"
             )
         elif (f1, f2) != p.angles:
-            reasons.append(f"pair {_pair_text(p)} brought inside the limits as {_pair_text((f1, f2))}")
+            reasons.append(
+                f"pair {_pair_text(p)} brought inside the limits as {_pair_text((f1, f2))}"
+            )
     tcsol = sum(f is not None for f in fitted)
     if tcsol == 0:
         raise _error(

@@ -308,8 +308,8 @@ def scan_program(
             found.append((wm.start(), {"word": wm.group(1).upper(), "value": None}))
         for rm in _ROT.finditer(line):
             args = {k.upper(): float(v) for k, v in _ROT_ARG.findall(rm.group(2))}
-            val = None if not args else [args.get("X", 0.0), args.get("Y", 0.0), args.get("Z", 0.0)]
-            found.append((rm.start(), {"word": rm.group(1).upper(), "value": val}))
+            angles = [args.get("X", 0.0), args.get("Y", 0.0), args.get("Z", 0.0)] if args else None
+            found.append((rm.start(), {"word": rm.group(1).upper(), "value": angles}))
         for col, ev in sorted(found, key=lambda t: t[0]):
             events.append({"line": lineno, "block": block, "column": col + 1, **ev})
     return carriers, events
