@@ -99,3 +99,11 @@ def test_orient_usage_error_is_argparse_exit_2() -> None:
     with pytest.raises(SystemExit) as ei:
         run(["--carrier", "x.toml"])  # neither --direction nor --frame
     assert ei.value.code == 2
+
+
+def test_register_sets_both_dispatch_names() -> None:
+    parser = argparse.ArgumentParser(prog="trcopt")
+    sub = parser.add_subparsers(dest="command")
+    cli.register(sub)
+    args = parser.parse_args(["orient", "--carrier", "x.toml", "--direction", "0", "0", "1"])
+    assert args.func is cli.run_orient and args.handler is cli.run_orient

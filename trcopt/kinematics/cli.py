@@ -79,7 +79,8 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--reference", nargs=2, type=float, default=None, metavar=("A1", "A2"),
                    help="specified angles [deg] (default $TC_CARR13/14)")
     p.add_argument("--json", default=None, metavar="OUT", help="write the result as JSON")
-    p.set_defaults(func=run_orient)
+    # both names: the main CLI dispatches on `handler`, plain argparse users on `func`
+    p.set_defaults(func=run_orient, handler=run_orient)
     return p
 
 
