@@ -138,8 +138,10 @@ def plan(
     tol = settings.tolerances.coincidence_mm
     programmed = [s for s in (programmed_segment(m, tol) for m in nc.moves) if s is not None]
     trc_diags: list[Diagnostic] = []
-    toolpath = list(compensate(nc.moves, settings, trc_diags))
+    front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
+    toolpath = list(compensate(nc.moves, settings, trc_diags, complete=front_end_ok))
     diagnostics.extend(trc_diags)
+    diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine)

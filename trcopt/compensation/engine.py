@@ -33,13 +33,18 @@ LAM_TOL = 1e-9
 
 
 def compensate(
-    moves: Iterable[Move], settings: TrcSettings | None = None, diagnostics: list[Diagnostic] | None = None
+    moves: Iterable[Move],
+    settings: TrcSettings | None = None,
+    diagnostics: list[Diagnostic] | None = None,
+    complete: bool = True,
 ) -> Iterator[Segment]:
     """Tool-centre segments for canonical moves; diagnostics are appended to ``diagnostics``.
 
     An error-severity alarm stops the stream (the segments up to the alarm have been yielded).
+    ``complete=False`` says the moves stop early (the front end raised an error), so a region
+    still open at the end is not reported as a program without G40.
     """
-    comp = Compensator(settings or TrcSettings(), diagnostics if diagnostics is not None else [])
+    comp = Compensator(settings or TrcSettings(), diagnostics if diagnostics is not None else [], complete)
     return comp.run(moves)
 
 
@@ -136,9 +141,10 @@ def _side_of(m: Move) -> int:
 class Compensator:
     """Streams canonical moves into tool-centre segments (see module docstring)."""
 
-    def __init__(self, settings: TrcSettings, diagnostics: list[Diagnostic]) -> None:
+    def __init__(self, settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool = True) -> None:
         self.settings = settings
         self.diagnostics = diagnostics
+        self.complete = complete
         self.tol = settings.tolerances.coincidence_mm
 
     # ------------------------------------------------------------------ driver
@@ -250,11 +256,12 @@ class Compensator:
                 assert a is not None
                 b = win.get(i + 1)
                 if b is None:
-                    self._warn(
-                        "TRC-ACTIVE-AT-END",
-                        "program ends with tool radius compensation active (no G40 block)",
-                        a.span,
-                    )
+                    if self.complete:
+                        self._warn(
+                            "TRC-ACTIVE-AT-END",
+                            "program ends with tool radius compensation active (no G40 block)",
+                            a.span,
+                        )
                     if pending is not None:
                         yield from self._emit(*pending)
                         pending = None
