@@ -98,7 +98,7 @@ class ModalState:
     )
 
     def __init__(self, tools: ToolTable) -> None:
-        self.position: list[float] = [0.0, 0.0, 0.0]
+        self.position: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.plane = Plane.G17
         self.motion = MoveKind.LINE  # G1 at program start (MD20150 default)
         self.feed_mm_s: float | None = None
@@ -137,20 +137,23 @@ class ModalState:
 
     def comp_state(self, side_programmed: bool = False) -> CompState:
         """The CompState snapshot in force (shared instances for equal states)."""
-        active, radius = self.tool_state()
+        # enum members are singletons: their ids make a cheap key (Enum.__hash__ is Python code)
         key = (
-            self.side,
-            radius,
-            active,
-            self.corner,
+            id(self.side),
+            self.tool,
+            self.edge,
+            self.offn,
+            self.tools.version,
+            id(self.corner),
             self.disc,
-            self.approach,
-            self.collision,
-            self.strategy,
+            id(self.approach),
+            id(self.collision),
+            id(self.strategy),
             side_programmed,
         )
         comp = self._comp_cache.get(key)
         if comp is None:
+            active, radius = self.tool_state()
             comp = CompState(
                 side=self.side,
                 radius=radius,

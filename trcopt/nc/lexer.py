@@ -95,6 +95,12 @@ _TOKEN = re.compile(
     re.I | re.X,
 )
 
+_FAST_WORD = re.compile(r"([ \t]*)([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))", re.I)
+_FAST_LINE = re.compile(
+    r"[ \t]*(/[0-9]?)?[ \t]*(?:[N:](\d+)(?![0-9.]))?"
+    r"((?:[ \t]*[A-Z][-+]?(?:\d+\.?\d*|\.\d+)(?![0-9.=]))*)[ \t]*(?:;(.*))?\Z",
+    re.I,
+)
 _PREFIX = re.compile(
     r"[ \t]*(?P<skip>/[0-9]?)?[ \t]*(?:(?P<n>[N:])(?P<nnum>\d+)(?![0-9.]))?[ \t]*"
     r"(?:(?P<label>[A-Z_][A-Z0-9_]*):(?!=))?",
@@ -202,6 +208,19 @@ def lex_line(line: str) -> LexedBlock:
     LexError
         Malformed number, missing value, unbalanced bracket, unknown character, misplaced ``$``.
     """
+    fast = _FAST_LINE.match(line)
+    if fast is not None:
+        # fast path: only single-letter address + plain number words (G1X10 Y-2.5 F600 ; ...)
+        number = None if fast[2] is None else "N" + str(int(fast[2]))
+        column = fast.start(3) + 1
+        words = []
+        append = words.append
+        for ws, address, value in _FAST_WORD.findall(fast[3]):
+            column += len(ws)
+            append(Word(address.upper(), float(value), column, address + value))
+            column += len(address) + len(value)
+        first_column = words[0].column if words else column
+        return LexedBlock(fast[1] is not None, number, words, first_column, fast[4], None)
     pm = _PREFIX.match(line)
     skip = pm.group("skip") is not None  # type: ignore[union-attr]
     number = None
@@ -209,8 +228,8 @@ def lex_line(line: str) -> LexedBlock:
         number = "N" + str(int(pm.group("nnum")))  # type: ignore[union-attr]
     label = pm.group("label")  # type: ignore[union-attr]
     pos = pm.end()  # type: ignore[union-attr]
-    words: list[Word] = []
     first_column = pos + 1
+    words = []
     try:
         comment = _scan(line, pos, words)
     except LexError as exc:

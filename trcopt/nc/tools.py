@@ -87,12 +87,13 @@ class ToolEdge:
 class ToolTable:
     """Mutable per-program tool-edge store keyed by (T, D)."""
 
-    __slots__ = ("_edges",)
+    __slots__ = ("_edges", "version")
 
     def __init__(
         self, preset: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None = None
     ) -> None:
         self._edges: dict[tuple[int, int], ToolEdge] = {}
+        self.version = 0  # incremented by every assignment (lets readers cache derived values)
         for key, value in (preset or {}).items():
             t, d = key
             self._edges[(int(t), int(d))] = ToolEdge.from_value(value)
@@ -106,6 +107,7 @@ class ToolTable:
         name = _DP_FIELDS.get(parameter)
         if name is None:
             return False
+        self.version += 1
         current = self._edges.get((tool, edge), ToolEdge())
         self._edges[(tool, edge)] = replace(
             current, **{name: int(value) if name == "type" else float(value)}
