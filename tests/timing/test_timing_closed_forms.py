@@ -78,7 +78,7 @@ def test_b4_acceleration_limited_circle_lp_value():
     circle = Arc((0.0, 0.0), 10.0, 0.0, 2 * math.pi)
     traj = time_parameterize([seg(circle, 250.0)], ISO)
     assert traj.engines == ["own"]  # no silent fallback to toppra
-    assert traj.duration == pytest.approx(0.505096, rel=1e-3)  # spec §4.3, LP at N=80 000
+    assert traj.duration == pytest.approx(0.505096, rel=2e-3)  # spec §4.3 LP at N=80 000; target CTR ≤ 1.005
 
 
 @pytest.mark.parametrize("machine", [ISO, ANISO], ids=["iso", "aniso"])

@@ -7,7 +7,7 @@ interval (the direction of an arc's tangent and normal). Both are controlled her
 * **ramp zones** — within one ramp length ``ℓ = F²/(2·a_min)`` of every segment end the spacing is
   ``h0 = ℓ/RAMP_POINTS`` (ramps start and end at knots or at the slowest points of a section);
   beyond that the spacing grows linearly (``GROWTH`` per mm) up to the cap below;
-* **angle cap** on arcs/helices: ``Δθ ≤ DTHETA_ACC`` (0.0125 rad, ~500 points per turn) where the
+* **angle cap** on arcs/helices: ``Δθ ≤ DTHETA_ACC`` (0.025 rad, ~250 points per turn) where the
   arc's centripetal acceleration matters (``F² > ½·a_min·ρ``) and ``Δθ ≤ DTHETA_FEED`` (0.1 rad)
   where the feed binds; the acceleration rows of an arc interval are tightened by ``cos(Δθ/2)``
   so the per-axis acceleration inside the interval stays below the limit as well;
@@ -29,7 +29,7 @@ from .path import SegmentEval
 
 RAMP_POINTS = 16.0
 GROWTH = 0.25
-DTHETA_ACC = 0.0125
+DTHETA_ACC = 0.025
 DTHETA_FEED = 0.1
 LINE_CAP_MM = 5.0
 POLY_CAP_MM = 0.2
@@ -54,8 +54,14 @@ def _graded(length: float, h0: float, zone: float, hmax: float) -> np.ndarray:
         pts.append(d)
     left = np.array(pts)
     right = length - left[::-1]
-    mid = [half] if (half - left[-1]) > 0.25 * h0 else []
-    return np.concatenate((left, mid, right))
+    pts_all = np.concatenate((left, [half], right))
+    # drop points closer than h0/4 to their predecessor (the two halves meet in the middle)
+    keep = np.concatenate(([True], np.diff(pts_all) > 0.25 * h0))
+    keep[-1] = True
+    out = pts_all[keep]
+    if out.shape[0] > 2 and out[-1] - out[-2] <= 0.25 * h0:
+        out = np.delete(out, -2)
+    return out
 
 
 def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: str) -> tuple[np.ndarray, float]:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["interval_rows", "mvc_bound", "solve_lockstep"]
+__all__ = ["interval_rows", "mvc_bound", "pass_coefficients", "solve_lockstep"]
 
 
 def interval_rows(
@@ -70,87 +70,92 @@ def mvc_bound(d1: np.ndarray, d2: np.ndarray, amax: np.ndarray) -> np.ndarray:
     return out
 
 
+def pass_coefficients(
+    alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray, curved: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Precompute the two passes for intervals with rows ``α x + β y ≤ γ`` (shape (n, 12)).
+
+    Fourier–Motzkin elimination of y: rows with β > 0 bound y above by ``U(x)``, rows with β < 0
+    below by ``L(x)``, and ``0 ≤ y ≤ K``. ``max x`` is the min over pairs (L, U) of one linear
+    bound; only the pairs with the row ``y ≤ K`` depend on K, so every other pair is evaluated
+    here once (``q``), vectorised over all intervals, and the backward step reduces to
+    ``B_i = min(q_i, min_l (K·wb_l + zb_l))``. The forward step is
+    ``F_{i+1} = min(B_{i+1}, min_u (F_i·wf_u + zf_u))``. On lines (no curvature) the (L, U) pairs
+    are parallel and ``q = ∞``.
+    """
+    tiny = 1e-12
+    n = alpha.shape[0]
+    up = beta > tiny
+    lo = beta < -tiny
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cu = np.where(up, gamma / beta, np.inf)
+        mu = np.where(up, -alpha / beta, 0.0)
+        cl = np.where(lo, gamma / beta, -np.inf)
+        ml = np.where(lo, -alpha / beta, 0.0)
+        # pair (L row, y ≤ K): cl + ml x ≤ K  →  x ≤ (K − cl)/ml  for ml > 0
+        use = lo & (ml > tiny)
+        wb = np.where(use, 1.0 / np.where(use, ml, 1.0), 0.0)
+        zb = np.where(use, -cl * wb, np.inf)
+        # pair (y ≥ 0, U row): 0 ≤ cu + mu x  →  x ≤ −cu/mu  for mu < 0
+        use0 = up & (mu < -tiny)
+        q = np.where(use0, -cu / np.where(use0, mu, 1.0), np.inf).min(axis=1)
+        flat = (~up) & (~lo) & (alpha > tiny)
+        q = np.minimum(q, np.where(flat, gamma / np.where(flat, alpha, 1.0), np.inf).min(axis=1))
+        idx = np.nonzero(curved)[0]
+        for chunk in np.array_split(idx, max(1, idx.shape[0] // 4096)):
+            if chunk.shape[0] == 0:
+                continue
+            num = cu[chunk, None, :] - cl[chunk, :, None]
+            den = ml[chunk, :, None] - mu[chunk, None, :]
+            ok = den > tiny
+            pair = np.where(ok, num / np.where(ok, den, 1.0), np.inf)
+            q[chunk] = np.minimum(q[chunk], pair.reshape(chunk.shape[0], -1).min(axis=1))
+        wf = np.where(up, mu, 0.0)
+        zf = np.where(up, cu, np.inf)
+        wl = np.where(lo, ml, 0.0)
+        zl = np.where(lo, cl, -np.inf)
+    del n
+    return q, wb, zb, np.stack((wf, wl)), np.stack((zf, zl))
+
+
 def solve_lockstep(
-    alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray, xmax: np.ndarray, curved: np.ndarray | None = None
+    q: np.ndarray, wb: np.ndarray, zb: np.ndarray, wf: np.ndarray, zf: np.ndarray, xmax: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Backward and forward greedy passes for G sections padded to the same interval count.
+    """Backward and forward passes for G sections padded to the same interval count N.
 
     Parameters
     ----------
-    alpha, beta, gamma:
-        (G, N, 12) interval rows; padding intervals carry zero rows and γ > 0.
+    q, wb, zb:
+        Backward data from :func:`pass_coefficients`, shapes (G, N), (G, N, 12), (G, N, 12);
+        padding intervals carry ``q = ∞, wb = 0, zb = ∞``.
+    wf, zf:
+        Forward data (2, G, N, 12): upper rows ``y ≤ x·w + z`` and lower rows ``y ≥ x·w + z``.
     xmax:
         (G, N+1) upper bounds on x (0 at section ends and on padding).
-    curved:
-        (G, N) True for intervals with curvature (the backward step is then an exact 2-D LP by
-        Fourier–Motzkin elimination; on lines the rows are lattice rows and y = B_{i+1} is optimal).
 
     Returns
     -------
     x:
         (G, N+1) squared path speeds, mm²/s².
     bad:
-        (G,) True where a forward step found no feasible value (the section needs toppra).
+        (G,) True where a forward step violates a lower row (the section then goes to toppra).
     """
-    G, N, _ = alpha.shape
-    if curved is None:
-        curved = np.ones((G, N), dtype=bool)
+    G, N = q.shape
     B = np.empty((G, N + 1))
     B[:, N] = xmax[:, N]
-    tiny = 1e-12
+    cap = np.minimum(xmax[:, :N], q)
     for i in range(N - 1, -1, -1):
-        a = alpha[:, i]
-        b = beta[:, i]
         K = B[:, i + 1]
-        rhs = gamma[:, i] - b * K[:, None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ubk = np.where(a > tiny, rhs / a, np.inf)
-        ub = ubk.min(axis=1)
-        # curved intervals need not be lattice rows (a smaller y may allow a larger x, or an
-        # upper bound on y may depend on x): solve the 2-variable LP exactly there
-        cur = curved[:, i]
-        if np.any(cur):
-            ub[cur] = _max_x_over_y(a[cur], b[cur], gamma[cur, i], K[cur])
-        B[:, i] = np.maximum(np.minimum(xmax[:, i], ub), 0.0)
+        B[:, i] = np.minimum(cap[:, i], (K[:, None] * wb[:, i] + zb[:, i]).min(axis=1))
+    np.maximum(B, 0.0, out=B)
     F = np.empty((G, N + 1))
-    F[:, 0] = np.minimum(B[:, 0], xmax[:, 0])
-    bad = np.zeros(G, dtype=bool)
+    F[:, 0] = B[:, 0]
+    wu, zu = wf[0], zf[0]
     for i in range(N):
-        b = beta[:, i]
-        rhs = gamma[:, i] - alpha[:, i] * F[:, i, None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            q = rhs / b
-            ub = np.where(b > tiny, q, np.inf).min(axis=1)
-            lb = np.where(b < -tiny, q, -np.inf).max(axis=1)
-        zero_ok = np.where(np.abs(b) <= tiny, rhs >= -1e-9 * np.abs(gamma[:, i]), True).all(axis=1)
-        y = np.maximum(np.minimum(B[:, i + 1], ub), 0.0)
-        bad |= (lb > y + 1e-9 * (1.0 + np.abs(y))) | ~zero_ok
-        F[:, i + 1] = y
-    return F, bad
-
-
-def _max_x_over_y(a: np.ndarray, b: np.ndarray, g: np.ndarray, K: np.ndarray) -> np.ndarray:
-    """Exact ``max x`` over ``{(x, y): a·x + b·y ≤ g (rows), 0 ≤ y ≤ K}`` (Fourier–Motzkin on y).
-
-    Rows with b > 0 bound y from above by ``U(x)``, rows with b < 0 from below by ``L(x)``;
-    ``x`` is feasible iff every ``L ≤ U``, each pair giving one linear bound on x.
-    """
-    tiny = 1e-12
-    n = a.shape[0]
-    up = b > tiny
-    lo = b < -tiny
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cu = np.where(up, g / b, np.inf)
-        mu = np.where(up, -a / b, 0.0)
-        cl = np.where(lo, g / b, -np.inf)
-        ml = np.where(lo, -a / b, 0.0)
-        cu = np.concatenate((cu, K[:, None]), axis=1)
-        mu = np.concatenate((mu, np.zeros((n, 1))), axis=1)
-        cl = np.concatenate((cl, np.zeros((n, 1))), axis=1)
-        ml = np.concatenate((ml, np.zeros((n, 1))), axis=1)
-        num = cu[:, None, :] - cl[:, :, None]
-        den = ml[:, :, None] - mu[:, None, :]
-        bound = np.where(den > tiny, num / np.where(den > tiny, den, 1.0), np.inf)
-        flat = (~up) & (~lo) & (a > tiny)
-        direct = np.where(flat, g / np.where(flat, a, 1.0), np.inf).min(axis=1)
-    return np.minimum(direct, bound.reshape(n, -1).min(axis=1))
+        y = (F[:, i, None] * wu[:, i] + zu[:, i]).min(axis=1)
+        F[:, i + 1] = np.maximum(np.minimum(B[:, i + 1], y), 0.0)
+    # lower rows, checked for all intervals at once
+    with np.errstate(invalid="ignore"):
+        lb = (F[:, :-1, None] * wf[1] + zf[1]).max(axis=2)
+    viol = lb - F[:, 1:] > 1e-9 * (1.0 + F[:, 1:])
+    return F, viol.any(axis=1)

@@ -19,7 +19,7 @@ from ..errors import TimingError
 from ..geometry.primitives import Arc
 from ..nc.model import Side
 from ..path import Role, Segment
-from .path import SegmentEval
+from .path import PathArrays
 
 __all__ = ["Section", "split_sections", "segment_feeds", "axis_limits", "TANGENT_TOL_RAD"]
 
@@ -84,32 +84,43 @@ def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
 
 
 def split_sections(
-    segments: Sequence[Segment], evals: Sequence[SegmentEval], tangent_tol_rad: float = TANGENT_TOL_RAD
+    segments: Sequence[Segment], arrays: PathArrays, tangent_tol_rad: float = TANGENT_TOL_RAD
 ) -> list[Section]:
     """Cut the path at every tangent discontinuity (3D angle > ``tangent_tol_rad``)."""
-    if not segments:
+    n = len(segments)
+    if n == 0:
         return []
-    sections: list[Section] = []
+    short = np.nonzero(arrays.length <= MIN_LENGTH_MM)[0]
+    if short.shape[0]:
+        i = int(short[0])
+        k = int(np.count_nonzero(_breaks(segments, arrays, tangent_tol_rad)[:i])) if i else 0
+        raise TimingError(
+            f"section {k}: zero-length element at s={arrays.start[i]:.6f} mm (segment {i}, block "
+            f"{segments[i].span.block_label()}) cannot be time-parameterised; remedy: remove the "
+            "block or merge it with its neighbour",
+            segments[i].span,
+            "TIMING-ZERO-LENGTH",
+        )
+    brk = _breaks(segments, arrays, tangent_tol_rad)
+    ends = np.append(np.nonzero(brk)[0], n - 1)
+    sections = []
     first = 0
-    s0 = 0.0
-    acc = 0.0
-    for i, e in enumerate(evals):
-        if e.length <= MIN_LENGTH_MM:
-            raise TimingError(
-                f"section {len(sections)}: zero-length element at s={acc:.6f} mm (segment {i}, block "
-                f"{segments[i].span.block_label()}) cannot be time-parameterised; remedy: remove the "
-                "block or merge it with its neighbour",
-                segments[i].span,
-                "TIMING-ZERO-LENGTH",
-            )
-        acc += e.length
-        last = i == len(evals) - 1
-        if not last:
-            a, b = e.end_dir(), evals[i + 1].start_dir()
-            angle = math.acos(float(np.clip(np.dot(a, b), -1.0, 1.0)))
-            feed_changes_kind = segments[i].is_rapid != segments[i + 1].is_rapid
-        if last or angle > tangent_tol_rad or feed_changes_kind:
-            sections.append(Section(len(sections), first, i, s0, acc - s0))
-            first = i + 1
-            s0 = acc
+    for k, last in enumerate(ends):
+        s0 = float(arrays.start[first])
+        sections.append(Section(k, first, int(last), s0, float(arrays.start[last] + arrays.length[last] - s0)))
+        first = int(last) + 1
     return sections
+
+
+def _breaks(segments: Sequence[Segment], arrays: PathArrays, tol: float) -> np.ndarray:
+    """Boolean per joint k (between segment k and k+1): True where the path must stop."""
+    n = len(segments)
+    idx = np.arange(n)
+    t_end = arrays.eval(idx, arrays.length, 1)
+    t_start = arrays.eval(idx, np.zeros(n), 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a = t_end[:-1] / np.linalg.norm(t_end[:-1], axis=1)[:, None]
+        b = t_start[1:] / np.linalg.norm(t_start[1:], axis=1)[:, None]
+        angle = np.arccos(np.clip((a * b).sum(axis=1), -1.0, 1.0))
+    rapid = np.array([s.is_rapid for s in segments])
+    return ~(angle <= tol) | (rapid[:-1] != rapid[1:])

@@ -18,7 +18,7 @@ from ..config import DEFAULT_MACHINE, Machine
 from ..path import Segment
 from .grid import segment_grid
 from .path import PathArrays
-from .reach import interval_rows, mvc_bound, solve_lockstep
+from .reach import interval_rows, mvc_bound, pass_coefficients, solve_lockstep
 from .sections import Section, axis_limits, segment_feeds, split_sections
 from .toppra_engine import solve_section_toppra
 from .trajectory import TimedTrajectory
@@ -70,7 +70,7 @@ def time_parameterize(
         return TimedTrajectory.empty(machine)
     arrays = PathArrays(segments)
     feeds = segment_feeds(segments, machine)
-    sections = split_sections(segments, arrays.evals, tangent_tol_rad)
+    sections = split_sections(segments, arrays, tangent_tol_rad)
     use_toppra = [
         engine == "toppra" or bool(np.any(arrays.kind[sec.first : sec.last + 1] == 2)) for sec in sections
     ]
@@ -144,6 +144,7 @@ def _solve_own(
         return np.minimum(np.minimum(vel, f2), mvc_bound(d1, d2, a_int))
 
     cap_l, cap_r = cap(d1l, d2l), cap(d1r, d2r)
+    qb, wb, zb, wf, zf = pass_coefficients(alpha, beta, gamma, curved)
     # 3. lock-step solve, grouping sections of similar interval count
     offsets = np.concatenate(([0], np.cumsum(n_int)))
     order = np.argsort(n_int, kind="stable")
@@ -159,20 +160,22 @@ def _solve_own(
         group = order[start:stop]
         N = int(n_int[group].max())
         G = len(group)
-        A = np.zeros((G, N, 12))
-        Bt = np.zeros((G, N, 12))
-        C = np.ones((G, N, 12))
+        Q = np.full((G, N), np.inf)
+        WB = np.zeros((G, N, 12))
+        ZB = np.full((G, N, 12), np.inf)
+        WF = np.zeros((2, G, N, 12))
+        ZF = np.empty((2, G, N, 12))
+        ZF[0], ZF[1] = np.inf, -np.inf
         X = np.zeros((G, N + 1))
-        CV = np.zeros((G, N), dtype=bool)
         for r, q in enumerate(group):
             a, b = offsets[q], offsets[q + 1]
             m = b - a
-            CV[r, :m] = curved[a:b]
-            A[r, :m], Bt[r, :m], C[r, :m] = alpha[a:b], beta[a:b], gamma[a:b]
+            Q[r, :m], WB[r, :m], ZB[r, :m] = qb[a:b], wb[a:b], zb[a:b]
+            WF[:, r, :m], ZF[:, r, :m] = wf[:, a:b], zf[:, a:b]
             xm = np.minimum(np.append(cap_l[a:b], np.inf), np.insert(cap_r[a:b], 0, np.inf))
             xm[0] = xm[m] = 0.0
             X[r, : m + 1] = xm
-        x, bad = solve_lockstep(A, Bt, C, X, CV)
+        x, bad = solve_lockstep(Q, WB, ZB, WF, ZF, X)
         for r, q in enumerate(group):
             sec = secs[q]
             if bad[r]:
