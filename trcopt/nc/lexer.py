@@ -95,12 +95,15 @@ _TOKEN = re.compile(
     re.I | re.X,
 )
 
-_FAST_WORD = re.compile(r"([ \t]*)([A-Z])([-+]?(?:\d+\.?\d*|\.\d+))", re.I)
+# fast path: plain numbers of at most 15 + 15 digits (longer ones take the checked slow path)
+_FAST_NUM = r"[-+]?(?:\d{1,15}(?:\.\d{0,15})?|\.\d{1,15})"
+_FAST_WORD = re.compile(r"([ \t]*)([A-Z])(" + _FAST_NUM + ")", re.I)
 _FAST_LINE = re.compile(
     r"[ \t]*(/[0-9]?)?[ \t]*(?:[N:](\d+)(?![0-9.]))?"
-    r"((?:[ \t]*[A-Z][-+]?(?:\d+\.?\d*|\.\d+)(?![0-9.=]))*)[ \t]*(?:;(.*))?\Z",
+    r"((?:[ \t]*[A-Z]" + _FAST_NUM + r"(?![0-9.=]))*)[ \t]*(?:;(.*))?\Z",
     re.I,
 )
+_MAX_NUMBER = 1e15
 _PREFIX = re.compile(
     r"[ \t]*(?P<skip>/[0-9]?)?[ \t]*(?:(?P<n>[N:])(?P<nnum>\d+)(?![0-9.]))?[ \t]*"
     r"(?:(?P<label>[A-Z_][A-Z0-9_]*):(?!=))?",
@@ -135,18 +138,26 @@ def _eval_const(node: ast.AST) -> float:
     raise ValueError("not a constant expression")
 
 
+def _checked(value: float, text: str) -> float:
+    if not abs(value) < _MAX_NUMBER:  # also catches inf and nan
+        raise ValueError(f"number {text!r} out of range")
+    return value
+
+
 def parse_number(text: str) -> float | Expr:
     """A number or constant arithmetic expression → float; text with variables → :class:`Expr`.
 
-    Raises ``ValueError`` for malformed numbers (``1.2.3``) and malformed expressions.
+    Raises ``ValueError`` for malformed numbers (``1.2.3``), malformed expressions and numbers
+    whose magnitude reaches 1e15.
     """
     if _NUMBER.match(text):
-        return float(text)
+        return _checked(float(text), text)
     if _CONST_EXPR.match(text):
         try:
-            return _eval_const(ast.parse(text.strip(), mode="eval"))
-        except (SyntaxError, ValueError, ZeroDivisionError):
+            value = _eval_const(ast.parse(text.strip(), mode="eval"))
+        except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
             raise ValueError(f"invalid number {text!r}") from None
+        return _checked(value, text)
     if re.search(r"[A-Z_$]", text, re.I):
         return Expr(text)
     raise ValueError(f"invalid number {text!r}")
@@ -255,9 +266,13 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             name = m.group("addr").upper()  # type: ignore[union-attr]
             num = m.group("num")  # type: ignore[union-attr]
             if num:
-                if _NUMBER.match(num) is None:
+                try:
+                    value = parse_number(num) if _NUMBER.match(num) else None
+                except ValueError as exc:
+                    raise LexError(f"{exc} after {name}", column) from None
+                if value is None:
                     raise LexError(f"invalid number {num!r} after {name}", column)
-                words.append(Word(name, float(num), column, line[start:pos]))
+                words.append(Word(name, value, column, line[start:pos]))
             elif pos < n and line[pos] == "(":
                 cm = _CALL.match(line, pos)
                 if cm is None:
@@ -277,9 +292,13 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             text = m.group("bare")  # type: ignore[union-attr]
             if words and words[-1].value is None and words[-1].index is None:
                 prev = words[-1]
-                if _NUMBER.match(text) is None:
+                try:
+                    value = parse_number(text) if _NUMBER.match(text) else None
+                except ValueError as exc:
+                    raise LexError(f"{exc} after {prev.name}", prev.column) from None
+                if value is None:
                     raise LexError(f"invalid number {text!r} after {prev.name}", prev.column)
-                words[-1] = Word(prev.name, float(text), prev.column, line[prev.column - 1 : pos])
+                words[-1] = Word(prev.name, value, prev.column, line[prev.column - 1 : pos])
             else:
                 raise LexError(f"number {text!r} without an address", column)
         elif kind == "kw":

@@ -33,6 +33,8 @@ _BEGIN_PGM = re.compile(r"^\s*\d*\s*BEGIN\s+PGM\b", re.I | re.M)
 # an RS274 comment: "(" at line start, after blank or after a number (Siemens writes AC(..),
 # MSG(..), X=(..): always after a letter, '=' or an operator)
 _PAREN_COMMENT = re.compile(r"(?:^|[\s0-9.])\([^)\n]*\)", re.M)
+_STRING = re.compile(r'"[^"\n]*"')
+_SEMICOLON_COMMENT = re.compile(r";[^\n]*")
 
 
 def detect_dialect(text: str, filename: str | None = None) -> str:
@@ -51,9 +53,8 @@ def detect_dialect(text: str, filename: str | None = None) -> str:
         return "rs274"
     if _BEGIN_PGM.search(text):
         return "heidenhain"
-    for m in _PAREN_COMMENT.finditer(text):
-        # ignore parentheses inside a Siemens comment (after ';')
-        line_start = text.rfind("\n", 0, m.start()) + 1
-        if ";" not in text[line_start : m.start() + 1]:
-            return "rs274"
+    # parentheses inside strings (MSG("…")) or ';' comments say nothing about the dialect
+    code = _SEMICOLON_COMMENT.sub("", _STRING.sub('""', text))
+    if _PAREN_COMMENT.search(code):
+        return "rs274"
     return "siemens"

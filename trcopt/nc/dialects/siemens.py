@@ -75,6 +75,12 @@ class SiemensReader(SiemensWords):
                 self.diagnostics.append(exc.diagnostic)
                 failed = True
                 break
+            except (ArithmeticError, ValueError, TypeError) as exc:  # a bug must not pass silently
+                span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
+                message = f"internal error while reading this block: {exc!r}"
+                self.diagnostics.append(Diagnostic(Severity.ERROR, "NC-INTERNAL", message, span))
+                failed = True
+                break
             if ended:
                 break
         if not ended and not failed:

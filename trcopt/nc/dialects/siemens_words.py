@@ -284,6 +284,11 @@ class SiemensWords:
         if m in _END_M:
             b.end = True
 
+    def _return(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        b.actions.append("RET")
+        b.end = True
+
     def _action(self, word: Word, b: Block, span: SourceSpan) -> None:
         if word.name in ("S", "H"):
             self._number(word, span)
@@ -473,6 +478,7 @@ WORD_HANDLERS: dict[str, Handler] = {
     "CUT2DF": SiemensWords._cut2d,
     "TCARR": SiemensWords._toolholder,
     "MSG": SiemensWords._msg,
+    "RET": SiemensWords._return,
     **{name: SiemensWords._approach for name in _APPROACH},
     **{name: SiemensWords._collision for name in _COLLISION},
     **{name: SiemensWords._toolholder for name in _TOOLHOLDER_WORDS},
