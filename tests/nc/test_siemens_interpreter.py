@@ -399,3 +399,15 @@ def test_cr_centre_is_equidistant_and_sweep_matches_sign(sx, sy, ex, ey, r, ccw,
         assert sweep <= math.pi + 1e-6
     else:
         assert sweep >= math.pi - 1e-6
+
+
+def test_actions_are_normalised_and_f_twice_is_an_error():
+    prog = read('g1 x1 f1234567 s1000.5 h2 m3 t2 d1 msg("Hello")')
+    assert prog.moves[0].actions == ("F1234567", "S1000.5", "H2", "M3", "T2", "D1", 'msg("Hello")')
+    err = error_of("N10 G1 X1 F1 F2\nM30")[1]
+    assert err.code == "NC-SYNTAX" and err.span.column == 14
+
+
+def test_ret_ends_a_subprogram():
+    prog = read_program("G1 X1 F100\nRET\nX5\n", file="sub.spf")
+    assert prog.diagnostics == () and len(prog.moves) == 2 and prog.moves[1].actions == ("RET",)

@@ -87,6 +87,11 @@ class Block:
         self.actions: list[str] = []
 
 
+def _fmt(value: float) -> str:
+    """A number as written in an action string: ``600``, ``0.25`` (no exponent for NC values)."""
+    return str(int(value)) if value.is_integer() else repr(value)
+
+
 Handler = Callable[["SiemensWords", Word, Block, SourceSpan], None]
 
 
@@ -263,7 +268,9 @@ class SiemensWords:
 
     def _feed(self, word: Word, b: Block, span: SourceSpan) -> None:
         value = self._number(word, span)
-        b.actions.append(word.text.upper().replace(" ", ""))
+        if b.feed is not None:
+            raise fail("NC-SYNTAX", "F programmed twice in one block", self._at(span, word))
+        b.actions.append("F" + _fmt(value))
         b.feed = value
         b.feed_col = word.column
 
@@ -290,9 +297,8 @@ class SiemensWords:
         b.end = True
 
     def _action(self, word: Word, b: Block, span: SourceSpan) -> None:
-        if word.name in ("S", "H"):
-            self._number(word, span)
-        b.actions.append(word.text)
+        """S (spindle speed) and H (auxiliary function): kept as ``"S1000"``, ``"H2"``."""
+        b.actions.append(word.name + _fmt(self._number(word, span)))
 
     def _offn(self, word: Word, b: Block, span: SourceSpan) -> None:
         self.state.offn = self._number(word, span) * self.geom_scale
