@@ -36,7 +36,8 @@ def classify(a: Elem, b: Elem, settings: TrcSettings) -> tuple[JunctionKind, flo
     """Kind of the junction a→b and the signed deflection δ (rad), spec §0.4."""
     t1, t2 = a.end_tangent(), b.start_tangent()
     delta = vec.deflection(t1, t2)
-    gap = vec.dist(a.off_end.point2(1.0), b.off_start.point2(0.0))
+    pa, pb = a.off_end.end, b.off_start.start
+    gap = math.hypot(pa[0] - pb[0], pa[1] - pb[1])
     if gap <= settings.tolerances.coincidence_mm and vec.dot(t1, t2) > 0.0:
         return JunctionKind.TANGENTIAL, delta
     if abs(delta) >= math.pi - 1e-12:

@@ -61,6 +61,19 @@ class Elem:
     r0: float  # compensation radius at the block start (mm, ≥ 0)
     r1: float  # ... at the block end
     dummies: list[Move] = field(default_factory=list)
+    off_start: Line | Arc = field(init=False)  # offset with the radius at the block start
+    off_end: Line | Arc = field(init=False)  # offset with the radius at the block end
+    t_start: Vec2 = field(init=False)  # unit plane tangents of the programmed element
+    t_end: Vec2 = field(init=False)
+
+    def __post_init__(self) -> None:
+        prog = self.prog
+        self.off_start = prog.offset(self.side * self.r0)
+        self.off_end = self.off_start if self.r1 == self.r0 else prog.offset(self.side * self.r1)
+        if isinstance(prog, Line):
+            self.t_start = self.t_end = prog.direction2()
+        else:
+            self.t_start, self.t_end = prog.start_tangent(), prog.end_tangent()
 
     @property
     def span(self) -> SourceSpan:
@@ -77,14 +90,6 @@ class Elem:
     @property
     def variable(self) -> bool:
         return self.r0 != self.r1
-
-    @property
-    def off_start(self) -> Line | Arc:
-        return self.prog.offset(self.side * self.r0)
-
-    @property
-    def off_end(self) -> Line | Arc:
-        return self.prog.offset(self.side * self.r1)
 
     @property
     def degenerate(self) -> bool:
@@ -110,10 +115,10 @@ class Elem:
         return Role.CONTOUR
 
     def start_tangent(self) -> Vec2:
-        return self.prog.start_tangent()
+        return self.t_start
 
     def end_tangent(self) -> Vec2:
-        return self.prog.end_tangent()
+        return self.t_end
 
 
 @dataclass(slots=True)

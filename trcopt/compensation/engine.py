@@ -89,8 +89,9 @@ class _Window:
         return self._buf.get(k)
 
     def drop_below(self, k: int) -> None:
-        for key in [key for key in self._buf if key < k]:
-            del self._buf[key]
+        if len(self._buf) > 16:
+            for key in [key for key in self._buf if key < k]:
+                del self._buf[key]
 
 
 @dataclass(slots=True)
@@ -125,17 +126,24 @@ def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
 
 
 def _plane_moving(m: Move, tol: float) -> bool:
-    if m.kind is MoveKind.NONE:
+    kind = m.kind
+    if kind is MoveKind.NONE:
         return False
-    u, v, _ = m.plane.to_uvw(m.start)
-    u1, v1, _ = m.plane.to_uvw(m.end)
-    if m.kind is MoveKind.ARC:
+    if kind is MoveKind.ARC:
         return True
-    return math.hypot(u1 - u, v1 - v) > tol
+    iu, iv, _ = m.plane.axes
+    a, b = m.start, m.end
+    return math.hypot(b[iu] - a[iu], b[iv] - a[iv]) > tol
 
 
 def _side_of(m: Move) -> int:
-    return m.comp.effective_side.sign
+    """+1 / −1 / 0 after the sign normalisation (a negative radius swaps the side)."""
+    c = m.comp
+    side = c.side
+    if side is Side.OFF:
+        return 0
+    s = 1 if side is Side.LEFT else -1
+    return -s if c.radius < 0.0 else s
 
 
 class Compensator:
@@ -586,19 +594,21 @@ class Compensator:
         for d in elem.dummies:
             yield from self._at_point(d, start_pt, side, elem.r0)
         w0, w1 = elem.prog.start[2], elem.prog.end[2]
-        lengths = [max(p.plane_length(), 0.0) for p in chain]
+        flat = [p.geometry(w0, w0) for p in chain]
+        lengths = [g.plane_length for g in flat]
         total = sum(lengths)
+        radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
         acc = 0.0
-        for piece, length in zip(chain, lengths, strict=True):
+        for piece, length, geom in zip(chain, lengths, flat, strict=True):
             wa = w0 + (w1 - w0) * (acc / total if total > 0 else 0.0)
             acc += length
             wb = w0 + (w1 - w0) * (acc / total if total > 0 else 1.0)
             if length <= 1e-12 and abs(wb - wa) <= 1e-12:
                 continue
-            geom = piece.geometry(wa, wb)
-            span = piece.elem.span
-            radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
-            yield Segment(geom, elem.plane, piece.role, span, piece.elem.feed, side, radius)
+            if w1 != w0:
+                geom = piece.geometry(wa, wb)
+            pe = piece.elem
+            yield Segment(geom, elem.plane, piece.role, pe.move.span, pe.move.feed_mm_s, side, radius)
         end_pt = chain[-1].end_point() if chain else start_pt
         for o in omitted:
             for d in o.dummies:

@@ -61,7 +61,10 @@ class Side(enum.Enum):
 
     @property
     def sign(self) -> int:
-        return {Side.OFF: 0, Side.LEFT: 1, Side.RIGHT: -1}[self]
+        return _SIDE_SIGN[self.value]
+
+
+_SIDE_SIGN = {"off": 0, "left": 1, "right": -1}
 
 
 class CornerMode(enum.Enum):
