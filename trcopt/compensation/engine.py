@@ -462,6 +462,8 @@ class Compensator:
                 for h in piece.hits(target, use_end=True):
                     if -LAM_TOL <= h.lam_b <= 1.0 + LAM_TOL and (best is None or h.lam_b < best[0]):
                         best = (h.lam_b, k, h.lam_a)
+            if best is None:
+                best = self._collinear_join(chain, target)
             if best is not None:
                 lam_b, k, lam_a = best
                 return _Join(j, [self._start_piece(win, j, lam_b)], end=(k, lam_a), omitted=list(range(i + 1, j)))
@@ -489,6 +491,23 @@ class Compensator:
             f"within {n} blocks (MD20240)",
             a.span,
         )
+
+    def _collinear_join(self, chain: list[Piece], target: object) -> tuple[float, int, float] | None:
+        """Offsets on one straight line, same direction (a degenerate block between two collinear
+        lines): the path continues straight to the start of the later block."""
+        last = chain[-1]
+        carrier = last.end_carrier()
+        if not (isinstance(carrier, Line) and isinstance(target, Line)):
+            return None
+        da, db = carrier.direction2(), target.direction2()
+        if abs(vec.cross(da, db)) > 1e-12 or vec.dot(da, db) <= 0.0:
+            return None
+        if carrier.distance2(target.start2) > self.tol and _line_distance(carrier, target.start2) > self.tol:
+            return None
+        lam_a = carrier.param_of(target.start2)
+        if lam_a < last.lam0 - LAM_TOL:
+            return None
+        return (0.0, len(chain) - 1, lam_a)
 
     def _strategy_extension(
         self, win: _Window, i: int, chain: list[Piece], pending: tuple[Elem, list[Piece], list[Elem]] | None
@@ -626,6 +645,12 @@ class Compensator:
         geom = Line((p[0], p[1], w0), (p[0], p[1], w1))
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
         yield Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
+
+
+def _line_distance(line: Line, p: Vec2) -> float:
+    """Distance from p to the carrier (infinite line) of ``line``."""
+    d = line.direction2()
+    return abs(vec.cross(d, vec.sub(p, line.start2)))
 
 
 def _restart(piece: Piece, lam: float) -> Piece:
