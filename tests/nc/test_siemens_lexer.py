@@ -52,9 +52,9 @@ def test_fad_with_space_and_keywords_with_digits():
 def test_system_variables_and_calls():
     b = lex_line('$TC_DP6[1, 2]=10 $TC_CARR23[1]="T" MSG("a; (b)") TCARR=1')
     w0, w1, w2, w3 = b.words
-    assert (w0.name, w0.index, w0.value, w0.column) == ("$TC_DP6", "1, 2", 10.0, 1)
-    assert (w1.name, w1.index, w1.value) == ("$TC_CARR23", "1", "T")
-    assert (w2.name, w2.index, w2.column) == ("MSG", '"a; (b)"', 36)
+    assert (w0.name, w0.subscript, w0.value, w0.column) == ("$TC_DP6", "1, 2", 10.0, 1)
+    assert (w1.name, w1.subscript, w1.value) == ("$TC_CARR23", "1", "T")
+    assert (w2.name, w2.subscript, w2.column) == ("MSG", '"a; (b)"', 36)
     assert (w3.name, w3.value) == ("TCARR", 1.0)
 
 

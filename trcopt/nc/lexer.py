@@ -14,7 +14,7 @@ Word forms recognised (case-insensitive)::
     FAD 500                         a bare number after a value-less word belongs to it
     NORM  CDOF2  CUT2D  TCOFRZ      keywords (no value)
     MSG("text")                     call form, kept verbatim
-    $TC_DP6[1,1]=10  $TC_CARR23[1]="T"   system-variable assignment (index kept as text)
+    $TC_DP6[1,1]=10  $TC_CARR23[1]="T"   system-variable assignment (subscript kept as text)
 
 Malformed input raises :class:`LexError` carrying the message and the column of the word.
 """
@@ -50,8 +50,8 @@ class Word(NamedTuple):
 
     ``name`` is upper case (``"G"``, ``"X"``, ``"DISCL"``, ``"$TC_DP6"``, ``"MSG"``). ``value`` is
     ``None`` (keyword), a ``float``, a ``str`` (quoted string, quotes removed), an :class:`Expr`, or
-    ``(mode, float)`` for ``AC(..)``/``IC(..)``/``PM(..)``/``PR(..)`` and similar. ``index`` is the
-    bracket content of a system variable (``"1,1"``) or the argument text of a call form.
+    ``(mode, float)`` for ``AC(..)``/``IC(..)``/``PM(..)``/``PR(..)`` and similar. ``subscript`` is
+    the bracket content of a system variable (``"1,1"``) or the argument text of a call form.
     ``assigned`` tells whether the word was written with ``=``.
     """
 
@@ -59,7 +59,7 @@ class Word(NamedTuple):
     value: object
     column: int
     text: str
-    index: str | None = None
+    subscript: str | None = None
     assigned: bool = False
 
 
@@ -224,7 +224,7 @@ def lex_line(line: str) -> LexedBlock:
         # fast path: only single-letter address + plain number words (G1X10 Y-2.5 F600 ; ...)
         number = None if fast[2] is None else "N" + str(int(fast[2]))
         column = fast.start(3) + 1
-        words = []
+        words: list[Word] = []
         append = words.append
         for ws, address, value in _FAST_WORD.findall(fast[3]):
             column += len(ws)
@@ -283,14 +283,14 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
                 words.append(Word(name, None, column, line[start:pos]))
         elif kind == "name":
             name = m.group("name").upper()  # type: ignore[union-attr]
-            value, pos, _ = _read_value(line, pos, column, name)
-            words.append(Word(name, value, column, line[start:pos], None, True))
+            assigned, pos, _ = _read_value(line, pos, column, name)
+            words.append(Word(name, assigned, column, line[start:pos], None, True))
         elif kind == "comment":
             comment = line[start + 1 :]
             break
         elif kind == "bare":
             text = m.group("bare")  # type: ignore[union-attr]
-            if words and words[-1].value is None and words[-1].index is None:
+            if words and words[-1].value is None and words[-1].subscript is None:
                 prev = words[-1]
                 try:
                     value = parse_number(text) if _NUMBER.match(text) else None
@@ -319,8 +319,8 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
                     raise LexError(f"system variable {name} is not in an assignment form", column)
                 index = im.group("idx").strip()
                 pos = im.end()
-            value, pos, _ = _read_value(line, pos, column, name)
-            words.append(Word(name, value, column, line[start:pos], index, True))
+            assigned, pos, _ = _read_value(line, pos, column, name)
+            words.append(Word(name, assigned, column, line[start:pos], index, True))
         else:  # bad
             ch = line[start]
             if ch in "()[]":

@@ -109,9 +109,13 @@ class ToolTable:
             return False
         self.version += 1
         current = self._edges.get((tool, edge), ToolEdge())
-        self._edges[(tool, edge)] = replace(
-            current, **{name: int(value) if name == "type" else float(value)}
-        )
+        if name == "type":
+            updated = replace(current, type=int(value))
+        elif name == "radius":
+            updated = replace(current, radius=float(value))
+        else:
+            updated = replace(current, wear=float(value))
+        self._edges[(tool, edge)] = updated
         return True
 
     def as_dict(self) -> dict[tuple[int, int], ToolEdge]:

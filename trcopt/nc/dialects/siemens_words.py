@@ -395,7 +395,7 @@ class SiemensWords:
                 f"{word.name} is not supported by trcopt (it would change the geometry)",
                 self._at(span, word),
             )
-        if word.value is None and word.index is None and len(word.name) == 1:
+        if word.value is None and word.subscript is None and len(word.name) == 1:
             raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
         self._warn(
             "NC-UNSUPPORTED-WORD",
@@ -414,17 +414,17 @@ class SiemensWords:
                 return
         elif name.startswith("$TC_CARR") and name[8:].isdigit():
             (m,) = self._index(word, span, 1)
-            value = word.value
-            if not isinstance(value, str) or isinstance(value, Expr):
-                value = self._number(word, span)
-            self.carriers.setdefault(m, {})[int(name[8:])] = value
+            data = word.value
+            if not isinstance(data, str) or isinstance(data, Expr):
+                data = self._number(word, span)
+            self.carriers.setdefault(m, {})[int(name[8:])] = data
         else:
             self._unsupported(word, b, span)
             return
         b.actions.append(word.text)
 
     def _index(self, word: Word, span: SourceSpan, count: int) -> tuple[int, ...]:
-        parts = (word.index or "").split(",")
+        parts = (word.subscript or "").split(",")
         try:
             values = tuple(int(p) for p in parts)
         except ValueError:
@@ -433,7 +433,7 @@ class SiemensWords:
             raise fail(
                 "NC-SYNTAX",
                 f"{word.name} needs {count} whole-number index"
-                f"{'es' if count > 1 else ''}, got [{word.index}]",
+                f"{'es' if count > 1 else ''}, got [{word.subscript}]",
                 self._at(span, word),
             )
         return values
