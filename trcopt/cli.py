@@ -117,7 +117,7 @@ def _run_plan(args: argparse.Namespace) -> int:
     # render everything first, then write: a failure never leaves some files half-written
     outputs: list[tuple[str, Callable[[], str]]] = []
     if args.json:
-        outputs.append((args.json, lambda: dumps_plan(result.to_json())))
+        outputs.append((args.json, lambda: dumps_plan(result.to_json(samples=args.csv))))
     if args.gcode:
         outputs.append(
             (

@@ -82,15 +82,16 @@ class PlanResult:
         """Cycle time, s (None when timing was not computed)."""
         return None if self.timing is None else float(self.timing.duration)
 
-    def to_json(self) -> dict[str, Any]:
-        """The plan JSON (design.md §3.1, schema ``trcopt.plan/1``)."""
+    def to_json(self, samples: str | None = None) -> dict[str, Any]:
+        """The plan JSON (design.md §3.1, schema ``trcopt.plan/1``); ``samples`` names the CSV
+        feed profile written beside it, if any."""
         from .io.plan_json import plan_json
 
         toolpath = self.toolpath
         timing_json = None
         if self.timing is not None:
             toolpath = self.timing.segments_with_times()
-            timing_json = self.timing.to_json()
+            timing_json = self.timing.to_json(samples=samples)
         return plan_json(
             program=self.program,
             dialect=self.dialect,
@@ -143,9 +144,25 @@ def plan(
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
+    _attach_toolholder(result)
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine)
     return result
+
+
+def _attach_toolholder(result: PlanResult) -> None:
+    """Toolholder with orientation capability: active holder, angles, $P_TCANG (JSON key
+    ``toolholder``) when the program defines or selects one."""
+    carriers = result.nc.extras.get("carriers") or {}
+    events = result.nc.extras.get("toolholder_events") or []
+    if not carriers and not events:
+        return
+    from .kinematics import evaluate_toolholder
+
+    report, diags = evaluate_toolholder(carriers, events, result.program)  # type: ignore[arg-type]
+    result.extra["toolholder"] = report
+    result.diagnostics.extend(diags)
+    result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
 
 
 def _attach_timing(result: PlanResult, machine: Machine) -> None:
