@@ -9,6 +9,7 @@ arc centre (I/J/K, ``=AC``, ``CR=``) with the end radius check, SAR words, and t
 
 from __future__ import annotations
 
+import gc
 import math
 
 from ...errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
@@ -55,6 +56,17 @@ class SiemensReader(SiemensWords):
 
     # ------------------------------------------------------------------ driver
     def read(self, text: str) -> NcProgram:
+        """Read the whole program; never raises for a problem in the program."""
+        # the objects built here are acyclic: pausing the cyclic GC saves ~10 % on long programs
+        gc_was_enabled = gc.isenabled()
+        gc.disable()
+        try:
+            return self._read(text)
+        finally:
+            if gc_was_enabled:
+                gc.enable()
+
+    def _read(self, text: str) -> NcProgram:
         lines = text.splitlines()
         ended = failed = False
         for lineno, line in enumerate(lines, 1):
