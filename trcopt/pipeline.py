@@ -134,7 +134,9 @@ def plan(
         raise TrcoptError(f"unknown dialect {dialect!r}; valid: {', '.join(DIALECTS)}", code="USAGE")
     if dialect == "auto":
         dialect = detect_dialect(source, file)
-    nc = read_program(source, file=file, dialect=dialect, tolerances=settings.tolerances)
+    nc = read_program(
+        source, file=file, dialect=dialect, tolerances=settings.tolerances, max_disc=settings.cutcom_max_disc
+    )
     diagnostics = list(nc.diagnostics)
     tol = settings.tolerances.coincidence_mm
     programmed = [s for s in (programmed_segment(m, tol) for m in nc.moves) if s is not None]

@@ -96,8 +96,11 @@ def outside_corner(
     """Outside corner a→b: transition circle (G450, DISC) or intersection (G451, R24)."""
     k = (a.prog.end[0], a.prog.end[1])
     absd = abs(delta)
-    use_intersection = absd < settings.curve_insert_limit_rad or (
-        corner is CornerMode.INTERSECTION and absd <= settings.corner_limit_rad
+    disc = min(disc, settings.cutcom_max_disc)
+    use_intersection = (
+        absd < settings.curve_insert_limit_rad
+        or (corner is CornerMode.INTERSECTION and absd <= settings.corner_limit_rad)
+        or disc >= 100  # DISC=100: the corner at the intersection of the equidistants (R22)
     )
     if use_intersection:
         hits = intersections(a.off_end, b.off_start)
@@ -110,7 +113,7 @@ def outside_corner(
     w = a.prog.end[2]
     carrier: Arc | object
     if disc > 0:
-        carrier = transition_conic(k, q0, q2, radius, delta, min(disc, settings.cutcom_max_disc), w)
+        carrier = transition_conic(k, q0, q2, radius, delta, disc, w)
     else:
         carrier = Arc(k, radius, math.atan2(q0[1] - k[1], q0[0] - k[0]), delta, w, w)
     owner = a if arc_owner_is_a else b

@@ -456,17 +456,14 @@ class Compensator:
                 break
             if c.degenerate:
                 continue
-            target = self._search_carrier(win, j)
-            best: tuple[float, int, float] | None = None
-            for k, piece in enumerate(chain):
-                for h in piece.hits(target, use_end=True):
-                    if -LAM_TOL <= h.lam_b <= 1.0 + LAM_TOL and (best is None or h.lam_b < best[0]):
-                        best = (h.lam_b, k, h.lam_a)
-            if best is None:
-                best = self._collinear_join(chain, target)
-            if best is not None:
-                lam_b, k, lam_a = best
-                return _Join(j, [self._start_piece(win, j, lam_b)], end=(k, lam_a), omitted=list(range(i + 1, j)))
+            found = self._first_hit(chain, self._full_chain(win, j))
+            if found is None and c.kind is not ElemKind.RETRACT:
+                collinear = self._collinear_join(chain, c.off_start)
+                if collinear is not None:
+                    found = (collinear[1], collinear[2], [Piece(c, c.role, 0.0, 1.0)])
+            if found is not None:
+                k, lam_a, rest = found
+                return _Join(j, rest, end=(k, lam_a), omitted=list(range(i + 1, j)))
             if c.kind is ElemKind.RETRACT:
                 break
         b = win.get(i + 1)
@@ -535,15 +532,6 @@ class Compensator:
                 return Line((p[0], p[1], c.prog.start[2]), c.prog.end)
         return c.off_start
 
-    def _start_piece(self, win: _Window, j: int, lam: float) -> Piece:
-        c = win.get(j)
-        assert c is not None
-        if c.kind is ElemKind.RETRACT:
-            carrier = self._search_carrier(win, j)
-            p = carrier.point2(lam)
-            return Piece(c, Role.RETRACT, 0.0, 1.0, p0=p)
-        return Piece(c, c.role, max(lam, 0.0) if lam > -LAM_TOL else lam, 1.0)
-
     # ------------------------------------------------------------------ collision detection
     def _full_chain(self, win: _Window, j: int) -> list[Piece]:
         """Block j's chain as the adjacent corner rules build it (untrimmed at inside corners)."""
@@ -562,6 +550,33 @@ class Compensator:
             return out.leading + [Piece(c, c.role, out.lam_b, 1.0)]
         return [Piece(c, c.role, 0.0, 1.0)]
 
+    def _first_hit(self, chain: list[Piece], full: list[Piece]) -> tuple[int, float, list[Piece]] | None:
+        """Where ``chain`` first meets the chain ``full`` of a later block, nearest the start of
+        ``full``; returns (piece index in chain, λ there, the rest of ``full`` from the hit)."""
+        start_pt = chain[0].start_point()
+        best: tuple[int, float, int, float] | None = None
+        for k, piece in enumerate(chain):
+            carrier_a = piece.end_carrier()
+            lo_a, hi_a = min(piece.lam0, piece.lam1), max(piece.lam0, piece.lam1)
+            for m, q in enumerate(full):
+                lo_b, hi_b = min(q.lam0, q.lam1), max(q.lam0, q.lam1)
+                for h in intersections(carrier_a, q.start_carrier(), 1e-9):
+                    if not (lo_a - LAM_TOL <= h.lam_a <= hi_a + LAM_TOL):
+                        continue
+                    if not (lo_b - LAM_TOL <= h.lam_b <= hi_b + LAM_TOL):
+                        continue
+                    if vec.dist(h.point, start_pt) <= self.tol:
+                        continue
+                    key = (m, h.lam_b, k, h.lam_a)
+                    if best is None or key[:2] < best[:2]:
+                        best = key
+        if best is None:
+            return None
+        m, lam_b, k, lam_a = best
+        rest = full[m:]
+        rest[0] = _restart(rest[0], lam_b)
+        return k, lam_a, rest
+
     def _collision(
         self, win: _Window, i: int, chain: list[Piece], j_adjacent: int
     ) -> tuple[int, tuple[int, float], list[Piece]] | None:
@@ -572,7 +587,6 @@ class Compensator:
             return None
         if a.kind is ElemKind.APPROACH and a.comp.strategy is not ApproachStrategy.G460:
             return None
-        start_pt = chain[0].start_point()
         n = self.settings.cutcom_maxnum_check_blocks
         found: tuple[int, tuple[int, float], list[Piece]] | None = None
         for j in range(max(i + 2, j_adjacent + 1), i + n + 1):
@@ -580,28 +594,9 @@ class Compensator:
             if c is None:
                 break
             if not c.degenerate:
-                full = self._full_chain(win, j)
-                best: tuple[int, float, int, float] | None = None
-                for k, piece in enumerate(chain):
-                    carrier_a = piece.end_carrier()
-                    for m, q in enumerate(full):
-                        lo_b, hi_b = min(q.lam0, q.lam1), max(q.lam0, q.lam1)
-                        lo_a, hi_a = min(piece.lam0, piece.lam1), max(piece.lam0, piece.lam1)
-                        for h in intersections(carrier_a, q.start_carrier(), 1e-9):
-                            if not (lo_a - LAM_TOL <= h.lam_a <= hi_a + LAM_TOL):
-                                continue
-                            if not (lo_b - LAM_TOL <= h.lam_b <= hi_b + LAM_TOL):
-                                continue
-                            if vec.dist(h.point, start_pt) <= self.tol:
-                                continue
-                            key = (m, h.lam_b, k, h.lam_a)
-                            if best is None or key[:2] < best[:2]:
-                                best = key
-                if best is not None:
-                    m, lam_b, k, lam_a = best
-                    rest = full[m:]
-                    rest[0] = _restart(rest[0], lam_b)
-                    found = (j, (k, lam_a), rest)
+                hit = self._first_hit(chain, self._full_chain(win, j))
+                if hit is not None:
+                    found = (j, (hit[0], hit[1]), hit[2])
             if c.kind is ElemKind.RETRACT:
                 break
         return found
