@@ -267,6 +267,10 @@ def read_program(
         from .dialects.siemens import SiemensReader
 
         return SiemensReader(options).read(text)
+    if name == "heidenhain":
+        from .dialects.heidenhain import read_heidenhain
+
+        return read_heidenhain(text, file=file, tolerances=options.tolerances)
     diag = Diagnostic(
         Severity.ERROR,
         "NC-DIALECT",
