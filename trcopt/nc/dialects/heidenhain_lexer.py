@@ -1,0 +1,100 @@
+"""Heidenhain Klartext lexer: one block per line → block number, statement and words with columns.
+
+Lexical rules (spec ``heidenhain_trc.md`` §2): tokens are separated by blanks, a number is glued
+to its address letter (``X+10``, ``IY-5``, ``LEN15``, ``CCA90``, ``R+20``, ``DR-0.05``); the literal
+``R0`` means "no compensation" (a zero radius is ``R+0``), a bare ``R+``/``R-`` is paraxial
+compensation, a bare ``DR+``/``DR-`` is the direction of rotation. ``;`` starts a comment, a line
+starting with ``*`` is a structure (comment) block. The Unicode minus ``−`` is read as ``-``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+__all__ = ["Word", "Block", "lex_block", "STATEMENTS"]
+
+# statements that take a second keyword
+_TWO_WORD = {
+    "BEGIN": ("PGM",),
+    "END": ("PGM",),
+    "TOOL": ("DEF", "CALL"),
+    "BLK": ("FORM",),
+    "PGM": ("CALL",),
+    "APPR": ("LT", "LN", "CT", "LCT", "PLT", "PLN", "PCT", "PLCT"),
+    "DEP": ("LT", "LN", "CT", "LCT", "PLT", "PLN", "PCT", "PLCT"),
+}
+STATEMENTS = frozenset(
+    {"L", "LP", "C", "CC", "CR", "CT", "CP", "CTP", "RND", "CHF", "STOP"} | set(_TWO_WORD)
+)
+
+_NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
+# longest addresses first: the regex alternation takes the first that matches
+_ADDRESSES = (
+    "IPA", "IPR", "PA", "PR", "LEN", "CCA", "DR2", "DL2", "DR", "DL",
+    "IX", "IY", "IZ", "IA", "IB", "IC", "X", "Y", "Z", "A", "B", "C", "R", "F", "S", "M", "L",
+)  # fmt: skip
+_WORD = re.compile(rf"^({'|'.join(_ADDRESSES)})({_NUMBER})$")
+_FLAGS = {"RL", "RR", "R0", "R+", "R-", "DR+", "DR-", "FMAX", "FAUTO", "MM", "INCH"}
+
+
+@dataclass(frozen=True, slots=True)
+class Word:
+    """One token: ``address`` (``X``, ``IPA``, ``RL``, ``DR+``, ``FMAX`` …, or ``""`` for a bare
+    token such as a tool number, axis or name), ``value`` (None for flags/bare) and 1-based column."""
+
+    address: str
+    value: float | None
+    text: str
+    column: int
+
+
+@dataclass(frozen=True, slots=True)
+class Block:
+    """A lexed line: block number text (``"15"``), statement (``"L"``, ``"APPR LCT"`` …, ``""`` for
+    a comment or empty line), its column and the words after it."""
+
+    line: int
+    number: str | None
+    statement: str
+    column: int
+    words: tuple[Word, ...]
+    comment: str = ""
+
+
+def _tokens(text: str) -> list[tuple[str, int]]:
+    return [(m.group(0), m.start() + 1) for m in re.finditer(r"\"[^\"]*\"|'[^']*'|\S+", text)]
+
+
+def lex_block(text: str, line: int) -> Block:
+    """Split one program line into a :class:`Block` (never raises; unknown tokens become bare
+    words with ``address == "?"`` for the reader to reject with their column)."""
+    text = text.replace("\u2212", "-").rstrip("\r\n")
+    comment = ""
+    cut = text.find(";")
+    if cut >= 0:
+        text, comment = text[:cut], text[cut + 1 :].strip()
+    toks = _tokens(text)
+    number = None
+    if toks and toks[0][0].isdigit():
+        number = toks.pop(0)[0]
+    if not toks or toks[0][0].startswith("*"):
+        return Block(line, number, "", toks[0][1] if toks else 1, (), comment)
+    head, column = toks.pop(0)
+    statement = head.upper()
+    if statement in _TWO_WORD and toks and toks[0][0].upper() in _TWO_WORD[statement]:
+        statement += " " + toks.pop(0)[0].upper()
+    words = []
+    for tok, col in toks:
+        up = tok.upper()
+        if up in _FLAGS:
+            words.append(Word(up, None, tok, col))
+            continue
+        m = _WORD.match(up)
+        if m:
+            words.append(Word(m.group(1), float(m.group(2)), tok, col))
+        elif re.fullmatch(r"\d+(?:\.\d*)?|\"[^\"]*\"|'[^']*'|[A-Z_][A-Z0-9_.]*", up):
+            words.append(Word("", None, tok, col))
+        else:
+            words.append(Word("?", None, tok, col))
+    return Block(line, number, statement, column, tuple(words), comment)
