@@ -28,6 +28,10 @@ class _Parser(argparse.ArgumentParser):
 def _add_plan_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("program", help="part program (.mpf/.spf Siemens, .h Heidenhain, .ngc RS274NGC)")
     p.add_argument("--dialect", default="auto", choices=["auto", "siemens", "heidenhain", "rs274"])
+    p.add_argument(
+        "--profile", default="auto", choices=["auto", "siemens", "heidenhain", "linuxcnc"],
+        help="compensation semantics (default: by dialect; rs274 → linuxcnc)",
+    )
     p.add_argument("--machine", metavar="FILE.toml", help="machine limits (default: embedded machine)")
     p.add_argument("--json", metavar="F", help="write the plan JSON (schema trcopt.plan/1)")
     p.add_argument("--gcode", metavar="F", help="write plain tool-centre G-code (G40 only)")
@@ -83,6 +87,7 @@ def _options(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     machine = DEFAULT_MACHINE if not getattr(args, "machine", None) else load_machine(args.machine)
     return PlanOptions(
         dialect=args.dialect,
+        profile=getattr(args, "profile", "auto"),
         machine=machine,
         timing=not getattr(args, "no_timing", True),
         strict=args.strict,

@@ -19,6 +19,7 @@ from .path import Segment, segments_length
 __all__ = ["PlanOptions", "PlanResult", "plan", "plan_file", "DIALECTS"]
 
 DIALECTS = ("auto", "siemens", "heidenhain", "rs274")
+PROFILES = ("auto", "siemens", "heidenhain", "linuxcnc")
 
 
 @dataclass(frozen=True, slots=True)
@@ -29,6 +30,9 @@ class PlanOptions:
     ----------
     dialect:
         ``auto`` (from the file name and contents), ``siemens``, ``heidenhain`` or ``rs274``.
+    profile:
+        Compensation semantics: ``siemens``, ``heidenhain`` or ``linuxcnc``; ``auto`` follows
+        the dialect (rs274 → linuxcnc).
     settings:
         Compensation machine data and tolerances.
     machine:
@@ -40,6 +44,7 @@ class PlanOptions:
     """
 
     dialect: str = "auto"
+    profile: str = "auto"
     settings: TrcSettings = field(default_factory=TrcSettings)
     machine: Machine = DEFAULT_MACHINE
     timing: bool = True
@@ -142,10 +147,21 @@ def plan(
     programmed = [s for s in (programmed_segment(m, tol) for m in nc.moves) if s is not None]
     trc_diags: list[Diagnostic] = []
     front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
-    toolpath = list(compensate(nc.moves, settings, trc_diags, complete=front_end_ok))
+    profile = opts.profile
+    if profile not in PROFILES:
+        raise TrcoptError(f"unknown profile {profile!r}; valid: {', '.join(PROFILES)}", code="USAGE")
+    if profile == "auto":
+        profile = {"rs274": "linuxcnc", "heidenhain": "heidenhain"}.get(dialect, "siemens")
+    if profile == "linuxcnc":
+        from .compensation.linuxcnc import compensate_linuxcnc
+
+        toolpath = list(compensate_linuxcnc(nc.moves, settings, trc_diags, complete=front_end_ok))
+    else:
+        toolpath = list(compensate(nc.moves, settings, trc_diags, complete=front_end_ok))
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
+    result.extra["profile"] = profile
     _attach_toolholder(result)
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine)
