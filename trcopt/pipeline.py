@@ -15,6 +15,7 @@ from .config import DEFAULT_MACHINE, Machine, TrcSettings
 from .errors import Diagnostic, Severity, SourceSpan, TrcoptError
 from .nc.model import NcProgram
 from .path import Segment, segments_length
+from .sar import expand_sar
 
 __all__ = ["PlanOptions", "PlanResult", "plan", "plan_file", "DIALECTS"]
 
@@ -144,9 +145,11 @@ def plan(
     )
     diagnostics = list(nc.diagnostics)
     tol = settings.tolerances.coincidence_mm
-    programmed = [s for s in (programmed_segment(m, tol) for m in nc.moves) if s is not None]
-    trc_diags: list[Diagnostic] = []
     front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
+    trc_diags: list[Diagnostic] = []
+    moves = list(expand_sar(nc.moves, settings, trc_diags))
+    programmed = [s for s in (programmed_segment(m, tol) for m in moves) if s is not None]
+    front_end_ok = front_end_ok and not any(d.severity is Severity.ERROR for d in trc_diags)
     profile = opts.profile
     if profile not in PROFILES:
         raise TrcoptError(f"unknown profile {profile!r}; valid: {', '.join(PROFILES)}", code="USAGE")
@@ -155,9 +158,9 @@ def plan(
     if profile == "linuxcnc":
         from .compensation.linuxcnc import compensate_linuxcnc
 
-        toolpath = list(compensate_linuxcnc(nc.moves, settings, trc_diags, complete=front_end_ok))
+        toolpath = list(compensate_linuxcnc(moves, settings, trc_diags, complete=front_end_ok))
     else:
-        toolpath = list(compensate(nc.moves, settings, trc_diags, complete=front_end_ok))
+        toolpath = list(compensate(moves, settings, trc_diags, complete=front_end_ok))
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
