@@ -230,9 +230,10 @@ def sar_points(
     """
     lead = lead_spec(spec)
     where = span or SourceSpan()
-    t = vec.unit((float(tangent[0]), float(tangent[1])))
-    if not all(math.isfinite(c) for c in t) or vec.norm(t) < 0.5:
+    t_raw = (float(tangent[0]), float(tangent[1]))
+    if not all(math.isfinite(c) for c in t_raw) or vec.norm(t_raw) <= 1e-12:
         raise _fail(10744, "no valid SAR direction: the tangent at the contour point is undefined", where)
+    t = vec.unit(t_raw)
     n_left = vec.rot90(t)
     p4_2 = (p4[0], p4[1])
     s = 0 if comp_side == 0 else (1 if comp_side > 0 else -1)
