@@ -89,7 +89,7 @@ def _centre_radius(rc: float, r: float) -> float:
     if rc == 0.0 or (rc > 0 and rho <= 1e-9):
         raise LeadError(
             "E_TOOL_RADIUS_TOO_LARGE",
-            f"tool radius too large: the tool-centre arc of the approach/departure has radius "
+            f"Tool radius too large: the tool-centre arc of the approach/departure has radius "
             f"{rho:.4f} mm (R {rc:+.4f}, compensation {r:.4f})",
         )
     return rho

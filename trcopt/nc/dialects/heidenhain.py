@@ -58,7 +58,7 @@ _ALLOWED: dict[str, set[str]] = {
     "CTP": {"PR", "IPR", "PA", "IPA", "X", "Y", "Z", "IX", "IY", "IZ"} | _COMP | _FEED | {"M"},
     "CC": _XYZ,
     "RND": {"R", "F"},
-    "CHF": {"F"},
+    "CHF": {"", "F"},
     "STOP": {"M"},
     "TOOL DEF": {"", "L", "R", "DL", "DR", "R2"},
     "TOOL CALL": {"", "S", "F", "DL", "DR", "DR2"},
@@ -76,9 +76,9 @@ class HeidenhainOptions:
 
 
 class _Stop(Exception):
-    def __init__(self, code: str, message: str, column: int | None = None) -> None:
+    def __init__(self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None) -> None:
         super().__init__(message)
-        self.code, self.message, self.column = code, message, column
+        self.code, self.message, self.column, self.span = code, message, column, span
 
 
 @dataclass(slots=True)
@@ -144,7 +144,8 @@ class HeidenhainReader:
                 self._block(blk, span)
             except (_Stop, ContourError, sar.LeadError) as exc:
                 col = getattr(exc, "column", None) or blk.column
-                self._error(exc.code, exc.message, SourceSpan(self.file, lineno, col, blk.number))  # type: ignore[attr-defined]
+                where = getattr(exc, "span", None) or SourceSpan(self.file, lineno, col, blk.number)
+                self._error(exc.code, exc.message, where)  # type: ignore[attr-defined]
                 break
             for e in self.elems[n_before:]:
                 e.extra.setdefault("plane", self.plane)
@@ -241,7 +242,7 @@ class HeidenhainReader:
         if st == "END PGM":
             self.ended = True
             if self.appr is not None:
-                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element")
+                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element", span=self.appr.span)
             return
         if st.startswith("BLK FORM"):
             return
@@ -282,7 +283,7 @@ class HeidenhainReader:
         if self.corner is not None:
             raise _Stop("E_SYNTAX", f"{self.corner[0]} must be followed by a contour element, not {what}")
         if self.appr is not None and not what.startswith("CC"):
-            raise _Stop("E_APPR_NO_CONTOUR", f"APPR without a following contour element ({what} follows)")
+            raise _Stop("E_APPR_NO_CONTOUR", f"APPR without a following contour element ({what} follows)", span=self.appr.span)
 
     def _tool(self, blk: Block, words: dict[str, Word], span: SourceSpan) -> None:
         bare = [w for k, w in words.items() if k.startswith("#")]
@@ -381,7 +382,7 @@ class HeidenhainReader:
             self._resolve_corner(elem)
         if self.appr is not None:
             if not moving_plane and elem.kind is not MoveKind.ARC:
-                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element (no motion in the working plane)")
+                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element (no motion in the working plane)", span=self.appr.span)
             if side is not self.appr.side:
                 raise _Stop("E_TRC_SIDE_SWITCH", "the element after APPR must keep the APPR compensation side")
             self._finish_appr(elem)
@@ -539,14 +540,17 @@ class HeidenhainReader:
         t = first.start_tangent()
         ps2, pa2 = (ps[0], ps[1]), (pa[0], pa[1])
         v, ref = a.words, self.opts.appr_radius
-        if a.kind == "LT":
-            lead = sar.appr_lt(ps2, pa2, t, s, a.r, v["LEN"])
-        elif a.kind == "LN":
-            lead = sar.appr_ln(ps2, pa2, t, s, a.r, v["LEN"])
-        elif a.kind == "CT":
-            lead = sar.appr_ct(ps2, pa2, t, s, a.r, v["CCA"], v["R"] * self.unit, ref)
-        else:
-            lead = sar.appr_lct(ps2, pa2, t, s, a.r, v["R"] * self.unit, ref)
+        try:
+            if a.kind == "LT":
+                lead = sar.appr_lt(ps2, pa2, t, s, a.r, v["LEN"] * self.unit)
+            elif a.kind == "LN":
+                lead = sar.appr_ln(ps2, pa2, t, s, a.r, v["LEN"] * self.unit)
+            elif a.kind == "CT":
+                lead = sar.appr_ct(ps2, pa2, t, s, a.r, v["CCA"], v["R"] * self.unit, ref)
+            else:
+                lead = sar.appr_lct(ps2, pa2, t, s, a.r, v["R"] * self.unit, ref)
+        except sar.LeadError as exc:
+            raise _Stop(exc.code, exc.message, span=a.span) from None
         if a.feed_before is None and a.kind != "LCT":
             self._warn("W_APPR_RAPID", "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span)
         out: list[Elem] = []
@@ -591,9 +595,9 @@ class HeidenhainReader:
         pe2, t, ref = (pe[0], pe[1]), last.end_tangent(), self.opts.appr_radius
         w_end = pe[2]
         if kind == "LT":
-            lead = sar.dep_lt(pe2, t, s, r, vals["LEN"])
+            lead = sar.dep_lt(pe2, t, s, r, vals["LEN"] * self.unit)
         elif kind == "LN":
-            lead = sar.dep_ln(pe2, t, s, r, vals["LEN"])
+            lead = sar.dep_ln(pe2, t, s, r, vals["LEN"] * self.unit)
         elif kind == "CT":
             lead = sar.dep_ct(pe2, t, s, r, vals["CCA"], vals["R"] * self.unit, ref)
         else:
