@@ -115,17 +115,23 @@ class _Expander:
         self.prev = m
 
     def _relocate(self, m: Move) -> Move:
-        """After a retraction that ends in P1/P2 the tool is not where the front end thinks."""
+        """After a retraction that ends in P1/P2 the tool is not where the front end thinks.
+
+        Axes a later block does not program keep the actual position; the correction ends when
+        every axis has been programmed again (or at an arc, whose centre fixes its start).
+        """
         if self.restart is None:
             return m
         front, actual = self.restart
-        if not _same(m.start, front, 1e-9):
+        if not _same(m.start, front, 1e-9) or m.kind is MoveKind.ARC:
             self.restart = None
             return m
-        if m.kind is MoveKind.NONE or _same(m.end, front, 1e-9):
-            return replace(m, start=actual, end=actual if m.kind is MoveKind.NONE else m.end)
-        self.restart = None
-        return replace(m, start=actual)
+        end = tuple(a if e == f else e for e, f, a in zip(m.end, front, actual, strict=True))
+        new_front = tuple(e for e in m.end)
+        new_actual = tuple(end)
+        differs = any(abs(f - a) > 1e-12 for f, a in zip(new_front, new_actual, strict=True))
+        self.restart = (new_front, new_actual) if differs else None  # type: ignore[assignment]
+        return replace(m, start=actual, end=end)  # type: ignore[arg-type]
 
     def _plane_moving(self, m: Move) -> bool:
         if m.kind is MoveKind.NONE:
