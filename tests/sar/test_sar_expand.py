@@ -1,4 +1,7 @@
-"""expand_sar: SAR blocks → canonical moves (feeds R43/R44, P4/tangent R45, TRC R46, R47, alarms)."""
+"""expand_sar: SAR blocks → canonical moves.
+
+Feeds R43/R44, P4 and tangent R45, TRC R46, other content R47, the SAR alarms.
+"""
 
 from __future__ import annotations
 
@@ -30,15 +33,21 @@ def toolpath(moves, settings: TrcSettings | None = None):
 
 
 def errors(diags):
-    return [(d.alarm if d.alarm is not None else d.code, d.span.line, d.span.block) for d in diags if d.severity.value == "error"]
+    return [
+        (d.alarm if d.alarm is not None else d.code, d.span.line, d.span.block)
+        for d in diags
+        if d.severity.value == "error"
+    ]
 
 
-@pytest.mark.parametrize("name", ["ex01_seed_g461", "ex02_square_g450", "ex05_kont_g450", "ex06_bottleneck_cdon"])
+@pytest.mark.parametrize(
+    "name", ["ex01_seed_g461", "ex02_square_g450", "ex05_kont_g450", "ex06_bottleneck_cdon"]
+)
 def test_no_op_without_sar(name: str) -> None:
     nc = read_program((SIEMENS / f"{name}.mpf").read_text(), file=name, dialect="siemens")
     diags: list[Diagnostic] = []
     out = list(expand_sar(nc.moves, TrcSettings(), diags))
-    assert len(out) == len(nc.moves) and all(a is b for a, b in zip(out, nc.moves))
+    assert len(out) == len(nc.moves) and all(a is b for a, b in zip(out, nc.moves, strict=True))
     assert diags == []
 
 
@@ -54,7 +63,9 @@ def test_approach_sub_moves_comp_state_actions_and_origin() -> None:
     assert [m.origin for m in sar] == ["approach"] * 4
     assert [m.kind for m in sar] == [MoveKind.RAPID, MoveKind.RAPID, MoveKind.LINE, MoveKind.ARC]
     assert sar[0].comp.side is Side.LEFT and sar[0].comp.side_programmed
-    assert not any(m.comp.side_programmed for m in sar[1:]) and all(m.comp.side is Side.LEFT for m in sar)
+    assert not any(m.comp.side_programmed for m in sar[1:]) and all(
+        m.comp.side is Side.LEFT for m in sar
+    )
     assert "M8" in sar[0].actions and all("M8" not in m.actions for m in sar[1:])
     # the internal programmed circle: ρp = DISR + s·σ·R = 5 + 5
     arc = sar[3]
@@ -67,13 +78,21 @@ def test_approach_sub_moves_comp_state_actions_and_origin() -> None:
 
 
 def test_approach_without_compensation_is_the_programmed_lead() -> None:
-    nc, moves, diags = expand("N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G247 G340 DISR=5 DISCL=2 X30 Y0 Z0 F300\nN30 G1 X60\nM30\n")
+    nc, moves, diags = expand(
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G247 G340 DISR=5 DISCL=2 X30 Y0 Z0 F300\n"
+        "N30 G1 X60\nM30\n"
+    )
     assert diags == []
     segs, _ = toolpath(moves)
     helix = next(s for s in segs if s.kind == "arc")
-    # G140 without TRC behaves like G143: P0 (0,20) lies left of the tangent (1,0) → CCW, centre (30,5)
-    assert helix.center_xyz == pytest.approx((30, 5, 2)) and helix.geometry.radius == pytest.approx(5.0)
-    assert helix.start_xyz == pytest.approx((25, 5, 2)) and helix.end_xyz == pytest.approx((30, 0, 0))
+    # G140 without TRC behaves like G143: P0 (0,20) lies left of the tangent (1,0)
+    # → CCW, centre (30,5)
+    assert helix.center_xyz == pytest.approx((30, 5, 2)) and helix.geometry.radius == pytest.approx(
+        5.0
+    )
+    assert helix.start_xyz == pytest.approx((25, 5, 2)) and helix.end_xyz == pytest.approx(
+        (30, 0, 0)
+    )
 
 
 FEED_PROGRAM = (
@@ -113,7 +132,10 @@ def test_fad_pr_keeps_the_value_per_revolution() -> None:
 
 def test_approach_motion_type_before_the_sar_block() -> None:
     """R43: rapid up to P2/P3 when G0 was active; a G0 SAR block's F applies to the contour."""
-    nc, moves, _ = expand("N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\nN30 G1 X60\nM30\n")
+    nc, moves, _ = expand(
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\n"
+        "N30 G1 X60\nM30\n"
+    )
     sar = [m for m in moves if m.span.block == "N20"]
     assert [m.kind for m in sar] == [MoveKind.RAPID, MoveKind.RAPID, MoveKind.LINE]
     assert sar[2].feed_mm_s * 60.0 == pytest.approx(300.0)
@@ -135,13 +157,19 @@ RETRACT_PROGRAM = (
     ],
 )
 def test_retraction_feeds_and_deactivation(seg: str, fad: str, expected: list[float]) -> None:
-    nc, moves, diags = expand(RETRACT_PROGRAM.format(contour="G148", seg=seg, fad=fad, end="X60 Y20 Z10"))
+    nc, moves, diags = expand(
+        RETRACT_PROGRAM.format(contour="G148", seg=seg, fad=fad, end="X60 Y20 Z10")
+    )
     assert diags == []
     sar = [m for m in moves if m.span.block == "N40"]
     assert [round(m.feed_mm_s * 60.0, 9) for m in sar] == expected
     assert all(m.origin == "retract" for m in sar)
-    assert [m.comp.side for m in sar] == [Side.LEFT] * (len(sar) - 1) + [Side.OFF]  # G40 on the last
-    assert sar[-1].actions and "M9" in sar[-1].actions and all("M9" not in m.actions for m in sar[:-1])
+    assert [m.comp.side for m in sar] == [Side.LEFT] * (len(sar) - 1) + [
+        Side.OFF
+    ]  # G40 on the last
+    assert (
+        sar[-1].actions and "M9" in sar[-1].actions and all("M9" not in m.actions for m in sar[:-1])
+    )
     assert sar[-1].end == pytest.approx((60, 20, 10))
     segs, tdiags = toolpath(moves)
     assert not errors(tdiags)
@@ -168,9 +196,13 @@ def test_retraction_with_only_the_applicate_ends_in_p1() -> None:
 
 
 def test_retraction_g143_without_end_point_is_10747() -> None:
-    nc, moves, diags = expand(RETRACT_PROGRAM.format(contour="G248 G143", seg="G341", fad="", end=""))
+    nc, moves, diags = expand(
+        RETRACT_PROGRAM.format(contour="G248 G143", seg="G341", fad="", end="")
+    )
     assert errors(diags) == [(10747, 5, "N40")]
-    assert all(m.span.block != "N40" and m.span.block != "N50" for m in moves)  # nothing after the alarm
+    assert all(
+        m.span.block != "N40" and m.span.block != "N50" for m in moves
+    )  # nothing after the alarm
 
 
 # ---- P4 and the tangent from later blocks (R45) -------------------------------------------------
@@ -178,7 +210,8 @@ def test_retraction_g143_without_end_point_is_10747() -> None:
 
 def test_p4_from_the_next_block_with_dummy_blocks_in_between() -> None:
     nc, moves, diags = expand(
-        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 Z0 F300\nN22 M8\nN24 M3 S1000\n"
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 Z0 F300\nN22 M8\n"
+        "N24 M3 S1000\n"
         "N30 G1 X30 Y0\nN35 M7\nN40 X60\nM30\n"
     )
     assert diags == []
@@ -193,11 +226,15 @@ def test_p4_from_the_next_block_with_dummy_blocks_in_between() -> None:
     assert not errors(tdiags)
 
 
-@pytest.mark.parametrize(("dummies", "limit", "alarm"), [(5, 5, None), (6, 5, 10740), (2, 1, 10740)])
+@pytest.mark.parametrize(
+    ("dummies", "limit", "alarm"), [(5, 5, None), (6, 5, 10740), (2, 1, 10740)]
+)
 def test_too_many_dummy_blocks_md20202(dummies: int, limit: int, alarm) -> None:
     filler = "".join(f"N{21 + k} M{k + 10}\n" for k in range(dummies))
     nc, moves, diags = expand(
-        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\n" + filler + "N30 G1 X60\nM30\n",
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\n"
+        + filler
+        + "N30 G1 X60\nM30\n",
         TrcSettings(wab_maxnum_dummy_blocks=limit),
     )
     if alarm is None:
@@ -209,25 +246,31 @@ def test_too_many_dummy_blocks_md20202(dummies: int, limit: int, alarm) -> None:
 
 def test_preprocessing_stop_between_sar_block_and_tangent_block() -> None:
     nc, moves, diags = expand(
-        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\nN25 STOPRE\nN30 G1 X60\nM30\n"
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 DISCL=2 X30 Y0 Z0 F300\n"
+        "N25 STOPRE\nN30 G1 X60\nM30\n"
     )
     assert errors(diags) == [(PREPROCESSING_STOP, 4, "N25")]
 
 
 def test_no_direction_after_the_sar_block_is_10744() -> None:
-    nc, moves, diags = expand("N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 X30 Y0 Z0 F300\nN30 M9\nM30\n")
+    nc, moves, diags = expand(
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 X30 Y0 Z0 F300\nN30 M9\nM30\n"
+    )
     assert [e[0] for e in errors(diags)] == [10744]
 
 
 def test_second_sar_block_before_the_direction_is_10743() -> None:
     nc, moves, diags = expand(
-        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 F300\nN30 G147 DISR=5 X30 Y0 Z0\nN40 G1 X60\nM30\n"
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G147 DISR=5 F300\nN30 G147 DISR=5 X30 Y0 Z0\n"
+        "N40 G1 X60\nM30\n"
     )
     assert errors(diags) == [(10743, 4, "N30")]
 
 
 def test_alarm_diagnostics_carry_line_and_block_number() -> None:
-    nc, moves, diags = expand("N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G247 X30 Y0 Z0 F300\nN30 G1 X60\nM30\n", r=10.0)
+    nc, moves, diags = expand(
+        "N10 G17 G90 T1 D1 G0 X0 Y20 Z10\nN20 G41 G247 X30 Y0 Z0 F300\nN30 G1 X60\nM30\n", r=10.0
+    )
     (d,) = diags
     assert d.alarm == 10742 and d.code == "10742" and d.span.line == 3 and d.span.block == "N20"
     assert d.format().startswith("t.mpf:3:")
@@ -236,7 +279,8 @@ def test_alarm_diagnostics_carry_line_and_block_number() -> None:
 def test_tangent_from_an_arc_block() -> None:
     """The approach tangent is the start tangent of the following block, here a G2 arc."""
     nc, moves, diags = expand(
-        "N10 G17 G90 T1 D1 G0 X0 Y30 Z10\nN20 G41 G147 DISR=5 X20 Y0 Z0 F300\nN30 G2 X40 Y0 I10 J0\nN40 G1 X50\nM30\n"
+        "N10 G17 G90 T1 D1 G0 X0 Y30 Z10\nN20 G41 G147 DISR=5 X20 Y0 Z0 F300\n"
+        "N30 G2 X40 Y0 I10 J0\nN40 G1 X50\nM30\n"
     )
     assert diags == []
     lead = next(m for m in moves if m.origin == "approach" and m.kind is MoveKind.LINE)
@@ -247,7 +291,8 @@ def test_tangent_from_an_arc_block() -> None:
 
 def test_g18_plane_quadrant() -> None:
     nc, moves, diags = expand(
-        "N10 G18 G90 T1 D1 G0 X20 Y10 Z0\nN20 G41 G247 DISR=5 DISCL=2 Z30 X0 Y0 F300\nN30 G1 Z60\nM30\n"
+        "N10 G18 G90 T1 D1 G0 X20 Y10 Z0\nN20 G41 G247 DISR=5 DISCL=2 Z30 X0 Y0 F300\n"
+        "N30 G1 Z60\nM30\n"
     )
     assert diags == []
     arc = next(m for m in moves if m.kind is MoveKind.ARC)

@@ -20,11 +20,15 @@ from trcopt.sar import expand_sar
 
 SIEMENS = Path(__file__).resolve().parents[2] / "problems" / "siemens"
 CASES = sorted(
-    p for p in SIEMENS.glob("ex*.mpf") if p.name[:4] in ("ex07", "ex08", "ex09", "ex10", "ex11", "ex12")
+    p
+    for p in SIEMENS.glob("ex*.mpf")
+    if p.name[:4] in ("ex07", "ex08", "ex09", "ex10", "ex11", "ex12")
 )
 
 
-def plan_sar(path: Path, settings: TrcSettings | None = None) -> tuple[list[Segment], list[Diagnostic]]:
+def plan_sar(
+    path: Path, settings: TrcSettings | None = None
+) -> tuple[list[Segment], list[Diagnostic]]:
     settings = settings or TrcSettings()
     nc = read_program(path.read_text(), file=str(path), dialect="siemens")
     diagnostics = list(nc.diagnostics)
@@ -34,7 +38,9 @@ def plan_sar(path: Path, settings: TrcSettings | None = None) -> tuple[list[Segm
 
 
 def _close(actual, expected, tol: float) -> bool:
-    return len(expected) <= len(actual) and all(abs(a - e) <= tol for a, e in zip(actual, expected))
+    return len(expected) <= len(actual) and all(
+        abs(a - e) <= tol for a, e in zip(actual, expected, strict=False)
+    )
 
 
 def test_every_sar_example_has_a_golden_problem() -> None:
@@ -50,7 +56,7 @@ def test_sar_golden(program: Path) -> None:
     tol = expected["tolerance_mm"]
     got = [(s.kind, s.span.block, s.start_xyz, s.end_xyz, s.center_xyz) for s in toolpath]
     assert len(got) == len(expected["toolpath"]), "\n".join(map(str, got))
-    for k, (g, e) in enumerate(zip(got, expected["toolpath"])):
+    for k, (g, e) in enumerate(zip(got, expected["toolpath"], strict=True)):
         kind, block, start, end, center = e
         assert g[0] == kind and g[1] == block, (k, g, e)
         assert _close(g[2], start, tol), (k, g, e)
@@ -69,7 +75,19 @@ def test_example9_roles_feeds_and_radii() -> None:
     """R43/R44: rapid infeed, FAD 200 on P2→P3, F1500 on the quadrant, old feed on the helix."""
     toolpath, _ = plan_sar(SIEMENS / "ex09_sar_offn_contour_example2.mpf")
     per_min = [None if s.feed_mm_s is None else round(s.feed_mm_s * 60.0, 6) for s in toolpath]
-    assert per_min == [None, None, None, 200.0, 1500.0, 1500.0, 1500.0, 1500.0, 10000.0, 10000.0, 10000.0]
+    assert per_min == [
+        None,
+        None,
+        None,
+        200.0,
+        1500.0,
+        1500.0,
+        1500.0,
+        1500.0,
+        10000.0,
+        10000.0,
+        10000.0,
+    ]
     roles = [s.role for s in toolpath]
     assert roles[1] is Role.APPROACH and roles[4] is Role.APPROACH
     assert roles[7] is Role.RETRACT and roles[9] is Role.RETRACT

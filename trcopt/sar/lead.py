@@ -232,7 +232,9 @@ def sar_points(
     where = span or SourceSpan()
     t_raw = (float(tangent[0]), float(tangent[1]))
     if not all(math.isfinite(c) for c in t_raw) or vec.norm(t_raw) <= 1e-12:
-        raise _fail(10744, "no valid SAR direction: the tangent at the contour point is undefined", where)
+        raise _fail(
+            10744, "no valid SAR direction: the tangent at the contour point is undefined", where
+        )
     t = vec.unit(t_raw)
     n_left = vec.rot90(t)
     p4_2 = (p4[0], p4[1])
@@ -253,7 +255,7 @@ def sar_points(
             if not lead.approach and retract_end is not RetractEnd.PROGRAMMED:
                 raise _fail(
                     10747,
-                    "retraction side undefined: automatic side (G143, or G140 without compensation) "
+                    "retraction side undefined: automatic side (G143, or G140 without TRC) "
                     "needs a programmed end point in the SAR block",
                     where,
                 )
@@ -270,7 +272,8 @@ def sar_points(
         if length <= 0.0:
             raise _fail(
                 10742,
-                f"SAR line length DISR + R = {length:g} mm is not positive (DISR {disr:g}, R {r:g})",
+                f"SAR line length DISR + R = {length:g} mm is not positive "
+                f"(DISR {disr:g}, R {r:g})",
                 where,
             )
         sign = -1.0 if lead.approach else 1.0
@@ -331,7 +334,7 @@ def sar_points(
             if lead.disrp is not None and beyond_p1:
                 raise _fail(
                     10748,
-                    f"illegal retraction plane DISRP: P1 at {w1:g} lies between the machining plane "
+                    f"illegal retraction plane DISRP: P1 at {w1:g} lies between the plane "
                     f"{w4:g} and the DISCL level {w2:g}",
                     where,
                 )
@@ -344,7 +347,9 @@ def sar_points(
     if lead.disrp is not None and lead.approach and not math.isnan(w0):
         # P0→P1 must not run against the infeed either
         if (w1 - w0) * (w4 - w1) < 0.0 and min(abs(w1 - w0), abs(w4 - w1)) > clearance_tolerance:
-            raise _fail(10748, f"illegal retraction plane DISRP: P1 at {w1:g} reverses the infeed", where)
+            raise _fail(
+                10748, f"illegal retraction plane DISRP: P1 at {w1:g} reverses the infeed", where
+            )
     w3 = w2 if spatial else w4
 
     if not lead.approach and retract_end is RetractEnd.NONE:

@@ -22,8 +22,9 @@ from dataclasses import replace
 from ..config import TrcSettings
 from ..errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from ..geometry import vec
+from ..geometry.plane import Plane
 from ..geometry.vec import Vec2
-from ..nc.model import CompState, Move, MoveKind, SarSegmentation, Side
+from ..nc.model import CompState, Move, MoveKind, SarSegmentation
 from .lead import RetractEnd, SarGeometry, Vec3, sar_points
 
 __all__ = ["expand_sar", "PREPROCESSING_STOP"]
@@ -34,7 +35,9 @@ _F_WORD = re.compile(r"^F=?\(?([-+]?(?:\d+\.?\d*|\.\d+)(?:E[-+]?\d+)?)\)?$", re.
 
 
 def expand_sar(
-    moves: Iterable[Move], settings: TrcSettings | None = None, diagnostics: list[Diagnostic] | None = None
+    moves: Iterable[Move],
+    settings: TrcSettings | None = None,
+    diagnostics: list[Diagnostic] | None = None,
 ) -> Iterator[Move]:
     """Expand every SAR block into ordinary moves; other moves pass through unchanged.
 
@@ -53,7 +56,9 @@ def expand_sar(
     Iterator[Move]
         The same moves for a program without SAR; otherwise the SAR sub-movements in their place.
     """
-    return _Expander(settings or TrcSettings(), diagnostics if diagnostics is not None else []).run(moves)
+    return _Expander(settings or TrcSettings(), diagnostics if diagnostics is not None else []).run(
+        moves
+    )
 
 
 class _Stop(Exception):
@@ -161,7 +166,9 @@ class _Expander:
                     )
                 if m.sar is not None:
                     raise self._fail(
-                        10743, "SAR programmed again before the approach direction is defined", m.span
+                        10743,
+                        "SAR programmed again before the approach direction is defined",
+                        m.span,
                     )
                 if any(a.upper().replace(" ", "") in _STOP_WORDS for a in m.actions):
                     raise self._fail(
@@ -189,7 +196,11 @@ class _Expander:
         plane = sar.plane
         t = _start_tangent(tangent_block, plane)
         if t is None:
-            raise self._fail(10744, "no valid SAR direction: the tangent block has no direction", tangent_block.span)
+            raise self._fail(
+                10744,
+                "no valid SAR direction: the tangent block has no direction",
+                tangent_block.span,
+            )
         comp = sar.comp
         s = comp.effective_side.sign if comp.tool_active else 0
         r = comp.effective_radius if s else 0.0
@@ -211,7 +222,9 @@ class _Expander:
             raise _Stop() from None
 
         # feeds (R43, §D-10a)
-        before_feed = None if self.prev is None else self.prev.feed_mm_s  # motion type before the SAR block
+        before_feed = (
+            None if self.prev is None else self.prev.feed_mm_s
+        )  # motion type before the SAR block
         before_kind = MoveKind.RAPID if before_feed is None else MoveKind.LINE
         f_sar = _programmed_feed(sar)
         f_from = f_sar if f_sar is not None else self.modal_feed
@@ -233,7 +246,14 @@ class _Expander:
             (geo.p1, geo.p2, before_kind, before_feed),
         ]
         if planar:
-            pieces.append((geo.p2, geo.p3, MoveKind.LINE if p23_feed is not None else MoveKind.RAPID, p23_feed))
+            pieces.append(
+                (
+                    geo.p2,
+                    geo.p3,
+                    MoveKind.LINE if p23_feed is not None else MoveKind.RAPID,
+                    p23_feed,
+                )
+            )
         first = True
         for a, b, kind, feed in pieces:
             if _same(a, b, self.tol):
@@ -262,12 +282,17 @@ class _Expander:
             start=geo.p3,
             end=geo.p4,
             span=p4_block.span,
-            comp=sub if first else (replace(p4_block.comp, side_programmed=False) if p4_block is not sar else sub),
+            comp=sub
+            if first
+            else (replace(p4_block.comp, side_programmed=False) if p4_block is not sar else sub),
             feed=contour_feed,
-            actions=(sar.actions if first else ()) + (p4_block.actions if p4_block is not sar else ()),
+            actions=(sar.actions if first else ())
+            + (p4_block.actions if p4_block is not sar else ()),
             origin="approach",
         )
-        if first:  # every sub-move before the contour was dropped: the contour carries the selection
+        if (
+            first
+        ):  # every sub-move before the contour was dropped: the contour carries the selection
             contour = replace(contour, comp=comp)
         out.append(contour)
         for m in out:
@@ -280,16 +305,24 @@ class _Expander:
         limit = self.settings.wab_maxnum_dummy_blocks
         last = self.last_contour
         if last is None:
-            raise self._fail(10744, "no valid SAR direction: no contour block precedes the retraction", sar.span)
+            raise self._fail(
+                10744, "no valid SAR direction: no contour block precedes the retraction", sar.span
+            )
         if self.dummies_since_contour > limit:
             raise self._fail(
-                10740, f"too many blocks without traversing motion in SAR (> MD20202 = {limit})", sar.span
+                10740,
+                f"too many blocks without traversing motion in SAR (> MD20202 = {limit})",
+                sar.span,
             )
         plane = sar.plane
         t = _end_tangent(last, plane)
         if t is None:
-            raise self._fail(10744, "no valid SAR direction: the last contour block has no direction", last.span)
-        contour_comp = replace(self.prev.comp if self.prev is not None else last.comp, side_programmed=False)
+            raise self._fail(
+                10744, "no valid SAR direction: the last contour block has no direction", last.span
+            )
+        contour_comp = replace(
+            self.prev.comp if self.prev is not None else last.comp, side_programmed=False
+        )
         s = contour_comp.effective_side.sign if contour_comp.tool_active else 0
         r = contour_comp.effective_radius if s else 0.0
         u, v, w = plane.axes
@@ -324,7 +357,9 @@ class _Expander:
         contour_feed = fad if (fad is not None and not planar) else old_feed
         p32_feed = fad if (fad is not None and planar) else old_feed
         new_feed = sar.feed_mm_s
-        new_kind = MoveKind.RAPID if (sar.kind is MoveKind.RAPID or new_feed is None) else MoveKind.LINE
+        new_kind = (
+            MoveKind.RAPID if (sar.kind is MoveKind.RAPID or new_feed is None) else MoveKind.LINE
+        )
         if sar.kind is MoveKind.NONE:
             new_kind = MoveKind.RAPID if new_feed is None else MoveKind.LINE
 
@@ -393,7 +428,7 @@ class _Expander:
     @staticmethod
     def _lead_move(
         geo: SarGeometry,
-        plane,  # type: ignore[no-untyped-def]
+        plane: Plane,
         *,
         start: Vec3,
         end: Vec3,
@@ -448,7 +483,7 @@ def _programmed_feed(m: Move) -> float | None:
     return None
 
 
-def _arc_tangent(m: Move, point: Vec3, plane) -> Vec2 | None:  # type: ignore[no-untyped-def]
+def _arc_tangent(m: Move, point: Vec3, plane: Plane) -> Vec2 | None:
     assert m.center is not None
     c = plane.to_uvw(m.center)
     p = plane.to_uvw(point)
@@ -459,7 +494,7 @@ def _arc_tangent(m: Move, point: Vec3, plane) -> Vec2 | None:  # type: ignore[no
     return tangent if m.ccw else vec.scale(tangent, -1.0)
 
 
-def _start_tangent(m: Move, plane) -> Vec2 | None:  # type: ignore[no-untyped-def]
+def _start_tangent(m: Move, plane: Plane) -> Vec2 | None:
     """Unit plane tangent at the start of a move (projected onto the plane)."""
     if m.kind is MoveKind.ARC and m.center is not None:
         return _arc_tangent(m, m.start, plane)
@@ -468,7 +503,7 @@ def _start_tangent(m: Move, plane) -> Vec2 | None:  # type: ignore[no-untyped-de
     return None if vec.norm(d) <= 1e-12 else vec.unit(d)
 
 
-def _end_tangent(m: Move, plane) -> Vec2 | None:  # type: ignore[no-untyped-def]
+def _end_tangent(m: Move, plane: Plane) -> Vec2 | None:
     """Unit plane tangent at the end of a move."""
     if m.kind is MoveKind.ARC and m.center is not None:
         return _arc_tangent(m, m.end, plane)
