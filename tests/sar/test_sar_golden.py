@@ -32,8 +32,10 @@ def plan_sar(
     settings = settings or TrcSettings()
     nc = read_program(path.read_text(), file=str(path), dialect="siemens")
     diagnostics = list(nc.diagnostics)
-    moves = expand_sar(nc.moves, settings, diagnostics)
-    toolpath = list(compensate(moves, settings, diagnostics))
+    moves = list(expand_sar(nc.moves, settings, diagnostics))
+    complete = not any(d.severity.value == "error" for d in diagnostics)
+    toolpath = list(compensate(moves, settings, diagnostics, complete=complete))
+    diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     return toolpath, diagnostics
 
 
