@@ -241,6 +241,8 @@ class HeidenhainReader:
             return
         if st == "END PGM":
             self.ended = True
+            if self.corner is not None:
+                raise _Stop("E_SYNTAX", f"{self.corner[0]} without a following contour element", span=self.corner[3])
             if self.appr is not None:
                 raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element", span=self.appr.span)
             return
