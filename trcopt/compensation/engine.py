@@ -20,7 +20,7 @@ from ..config import TrcSettings
 from ..errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from ..geometry import vec
 from ..geometry.intersect import intersections
-from ..geometry.primitives import Line
+from ..geometry.primitives import Arc, Line
 from ..geometry.vec import Vec2
 from ..nc.model import ApproachMode, ApproachStrategy, CollisionMode, Move, MoveKind, Side
 from ..path import Role, Segment
@@ -105,6 +105,7 @@ class _Join:
     replace: list[Piece] | None = None  # replace block i's chain entirely
     omitted: list[int] = field(default_factory=list)
     backward: tuple[int, float] | None = None  # trim the previous block's chain here; omit block i
+    backward_point: Vec2 | None = None  # ... or end the previous block's last piece at this point
 
 
 def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
@@ -276,11 +277,16 @@ class Compensator:
                     yield from self._emit(a, chain, [])
                     return
                 join = self._junction(win, i, chain, pending)
-                if join.backward is not None and pending is not None:
+                if (join.backward is not None or join.backward_point is not None) and pending is not None:
                     prev_elem, prev_chain, prev_omitted = pending
-                    self._trim_end(prev_chain, join.backward)
-                    pending = (prev_elem, prev_chain, prev_omitted + [a])
-                    self._omit_warning(a)
+                    if join.backward is not None:
+                        self._trim_end(prev_chain, join.backward)
+                    else:
+                        prev_chain[-1].p1 = join.backward_point
+                    skipped = [a] + [e for e in (win.get(k) for k in join.omitted) if e is not None]
+                    pending = (prev_elem, prev_chain, prev_omitted + skipped)
+                    for e in skipped:
+                        self._omit_warning(e)
                 else:
                     if join.replace is not None:
                         chain = join.replace
@@ -456,6 +462,8 @@ class Compensator:
                 break
             if c.degenerate:
                 continue
+            if c.kind is ElemKind.RETRACT and c.comp.strategy is not ApproachStrategy.G460:
+                break  # R31: only G460 includes the retraction block in the search
             found = self._first_hit(chain, self._full_chain(win, j))
             if found is None and c.kind is not ElemKind.RETRACT:
                 collinear = self._collinear_join(chain, c.off_start)
@@ -469,7 +477,11 @@ class Compensator:
         b = win.get(i + 1)
         assert b is not None
         # CDOF backward search: the next block's offset against the previous block's chain
-        if pending is not None and a.kind is ElemKind.CONTOUR:
+        if (
+            pending is not None
+            and a.kind is ElemKind.CONTOUR
+            and (pending[0].kind is not ElemKind.APPROACH or pending[0].comp.strategy is ApproachStrategy.G460)
+        ):
             prev_elem, prev_chain, _ = pending
             best2: tuple[float, int, float] | None = None
             for k, piece in enumerate(prev_chain):
@@ -509,17 +521,79 @@ class Compensator:
     def _strategy_extension(
         self, win: _Window, i: int, chain: list[Piece], pending: tuple[Elem, list[Piece], list[Elem]] | None
     ) -> _Join | None:
-        """G461/G462 (R32–R34); the G460 default has none."""
+        """What the approach/retraction strategy makes of an unresolved first or last corner.
+
+        KONT with the start/end point behind the contour (R35): the inserted bypass element or the
+        straight approach/retraction line meets the neighbouring block. Otherwise G461/G462
+        (R32–R34): the first (last) block's offset is extended by an auxiliary circle around its
+        programmed start (end) point or by its tangent, intersected with the following (preceding)
+        blocks; the block itself is omitted. G460 has no such extension (alarm 10751, §D-13).
+        """
         a = win.get(i)
-        assert a is not None
-        prev = pending[0] if pending is not None else None
-        if prev is not None and prev.kind is ElemKind.APPROACH and prev.comp.strategy is not ApproachStrategy.G460:
-            self._warn(
-                "TRC-STRATEGY",
-                f"{prev.comp.strategy.value} approach extension is not implemented yet; behaving as G460",
-                prev.span,
-            )
+        b = win.get(i + 1)
+        assert a is not None and b is not None
+        n = self.settings.cutcom_maxnum_check_blocks
+        if pending is not None and pending[0].kind is ElemKind.APPROACH:
+            app, app_chain, _ = pending
+            p0, p1 = (app.prog.start[0], app.prog.start[1]), (app.prog.end[0], app.prog.end[1])
+            if app.comp.approach is ApproachMode.KONT and cn.behind(p1, p0, a.start_tangent(), a.side):
+                hit = self._first_hit(app_chain, self._full_chain(win, i + 1))
+                if hit is None:
+                    return None
+                k, lam, rest = hit
+                return _Join(i + 1, rest, backward=(k, lam))
+            strategy = app.comp.strategy
+            if strategy is ApproachStrategy.G460:
+                return None
+            start = a.off_start.point2(0.0)
+            back = (-a.start_tangent()[0], -a.start_tangent()[1])
+            aux = _auxiliary(strategy, (a.prog.start[0], a.prog.start[1]), start, back, a.r0)
+            found: tuple[int, Vec2, list[Piece]] | None = None
+            for j in range(i + 1, i + n + 1):
+                c = win.get(j)
+                if c is None:
+                    break
+                hit2 = _walk_hit(aux, self._full_chain(win, j))
+                if hit2 is not None:
+                    found = (j, hit2[0], hit2[1])
+                    if a.comp.collision is not CollisionMode.CDON:
+                        break
+                if c.kind is ElemKind.RETRACT:
+                    break
+            if found is None:
+                return None
+            j, point, rest = found
+            return _Join(j, rest, backward_point=point, omitted=list(range(i + 1, j)))
+        r = win.get(i + 2)
+        if r is not None and r.kind is ElemKind.RETRACT:
+            e_pt = (r.prog.start[0], r.prog.start[1])
+            if self._retract_behind(b, r):
+                hit = self._first_hit(chain, self._full_chain(win, i + 2))
+                if hit is None:
+                    return None
+                k, lam, rest = hit
+                return _Join(i + 2, rest, end=(k, lam), omitted=[i + 1])
+            strategy = r.comp.strategy
+            if strategy is ApproachStrategy.G460:
+                return None
+            aux = _auxiliary(strategy, e_pt, b.off_end.point2(1.0), b.end_tangent(), b.r1)
+            best: tuple[float, int, float, Vec2] | None = None
+            for k, piece in enumerate(chain):
+                lo, hi = min(piece.lam0, piece.lam1), max(piece.lam0, piece.lam1)
+                for h in intersections(aux, piece.end_carrier(), 1e-9):
+                    if h.lam_a > 1e-9 and lo - LAM_TOL <= h.lam_b <= hi + LAM_TOL and (best is None or h.lam_a < best[0]):
+                        best = (h.lam_a, k, h.lam_b, h.point)
+            if best is None:
+                return None
+            _, k, lam, point = best
+            return _Join(i + 2, [Piece(r, Role.RETRACT, 0.0, 1.0, p0=point)], end=(k, lam), omitted=[i + 1])
         return None
+
+    @staticmethod
+    def _retract_behind(last: Elem, r: Elem) -> bool:
+        """KONT retraction with the end point behind the contour (R14, R18)."""
+        e_pt, t_pt = (r.prog.start[0], r.prog.start[1]), (r.prog.end[0], r.prog.end[1])
+        return r.comp.approach is ApproachMode.KONT and cn.behind(e_pt, t_pt, last.end_tangent(), last.side)
 
     def _search_carrier(self, win: _Window, j: int):  # type: ignore[no-untyped-def]
         """The geometry block j is searched with (the actual line for a NORM retraction)."""
@@ -539,6 +613,10 @@ class Compensator:
         prev = win.get(j - 1)
         assert c is not None and prev is not None
         if c.kind is ElemKind.RETRACT:
+            if self._retract_behind(prev, c):
+                lead = self._retract(prev, c, j - 1)  # bypass circle / extension, then the line
+                ext = [Piece(prev, prev.role, 1.0, lead.end[1])] if lead.end is not None else []
+                return ext + lead.next_chain
             carrier = self._search_carrier(win, j)
             return [Piece(c, Role.RETRACT, 0.0, 1.0, main=False, carrier=carrier)]
         if prev.kind is ElemKind.APPROACH or prev.degenerate:
@@ -593,6 +671,8 @@ class Compensator:
             c = win.get(j)
             if c is None:
                 break
+            if c.kind is ElemKind.RETRACT and c.comp.strategy is not ApproachStrategy.G460:
+                break
             if not c.degenerate:
                 hit = self._first_hit(chain, self._full_chain(win, j))
                 if hit is not None:
@@ -640,6 +720,37 @@ class Compensator:
         geom = Line((p[0], p[1], w0), (p[0], p[1], w1))
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
         yield Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
+
+
+AUX_LINE_MM = 1.0e5  # length of the G462 tangent extension searched for an intersection
+
+
+def _auxiliary(strategy: ApproachStrategy, center: Vec2, start: Vec2, direction: Vec2, radius: float) -> Line | Arc:
+    """G461: the circle of the tool radius around the programmed point, walked from ``start`` in
+    ``direction``; G462: the straight extension from ``start`` along ``direction``."""
+    if strategy is ApproachStrategy.G462 or radius <= 0.0:
+        end = (start[0] + AUX_LINE_MM * direction[0], start[1] + AUX_LINE_MM * direction[1], 0.0)
+        return Line((start[0], start[1], 0.0), end)
+    radial = vec.sub(start, center)
+    ccw = vec.dot(vec.rot90(radial), direction) > 0.0
+    sweep = (2.0 * math.pi - 1e-9) * (1.0 if ccw else -1.0)
+    return Arc(center, vec.norm(radial), math.atan2(radial[1], radial[0]), sweep)
+
+
+def _walk_hit(aux: Line | Arc, full: list[Piece]) -> tuple[Vec2, list[Piece]] | None:
+    """First point met walking along ``aux`` that lies on the chain ``full``; the rest of it."""
+    best: tuple[float, int, float, Vec2] | None = None
+    for m, q in enumerate(full):
+        lo, hi = min(q.lam0, q.lam1), max(q.lam0, q.lam1)
+        for h in intersections(aux, q.start_carrier(), 1e-9):
+            if h.lam_a > 1e-9 and lo - LAM_TOL <= h.lam_b <= hi + LAM_TOL and (best is None or h.lam_a < best[0]):
+                best = (h.lam_a, m, h.lam_b, h.point)
+    if best is None:
+        return None
+    _, m, lam_b, point = best
+    rest = full[m:]
+    rest[0] = _restart(rest[0], lam_b)
+    return point, rest
 
 
 def _line_distance(line: Line, p: Vec2) -> float:
