@@ -22,7 +22,9 @@ def prog(*blocks: str, head: str = HEAD) -> str:
 
 
 def errors(p):
-    return [(d.code, d.span.block, d.span.line) for d in p.diagnostics if d.severity.value == "error"]
+    return [
+        (d.code, d.span.block, d.span.line) for d in p.diagnostics if d.severity.value == "error"
+    ]
 
 
 def ends(p):
@@ -32,13 +34,23 @@ def ends(p):
 # --- the seed's formula: compensation value = R + DR_TOOLCALL + DR_TAB ---------------------------
 @pytest.mark.parametrize(
     ("r", "dr_tab", "dr_call", "expected"),
-    [(6.0, -0.05, 0.3, 6.25), (5.0, 0.0, 0.0, 5.0), (5.0, 0.0, 0.5, 5.5), (10.0, -0.02, -0.1, 9.88)],
+    [
+        (6.0, -0.05, 0.3, 6.25),
+        (5.0, 0.0, 0.0, 5.0),
+        (5.0, 0.0, 0.5, 5.5),
+        (10.0, -0.02, -0.1, 9.88),
+    ],
 )
 def test_seed_compensation_value_formula(r, dr_tab, dr_call, expected):
     assert compensation_value(r, dr_tab, dr_call) == pytest.approx(expected)
     tools = {1: HhTool(1, radius=r, dr=dr_tab)}
-    text = prog("L X-10 Y-10 R0 FMAX", "L X+0 Y+0 RR F200", "L X+100 Y+0", "L X+100 Y+50 R0",
-                head=f"0 BEGIN PGM T MM\n1 TOOL CALL 1 Z DR{dr_call:+g}\n2 L Z+0 FMAX\n")
+    text = prog(
+        "L X-10 Y-10 R0 FMAX",
+        "L X+0 Y+0 RR F200",
+        "L X+100 Y+0",
+        "L X+100 Y+50 R0",
+        head=f"0 BEGIN PGM T MM\n1 TOOL CALL 1 Z DR{dr_call:+g}\n2 L Z+0 FMAX\n",
+    )
     p = read_heidenhain(text, options=HeidenhainOptions(tools=tools))
     assert not errors(p)
     radii = [m.comp.radius for m in p.moves if m.comp.side is Side.RIGHT]
@@ -48,8 +60,13 @@ def test_seed_compensation_value_formula(r, dr_tab, dr_call, expected):
 def test_tool_table_toml_and_tool_name():
     table = tool_table_from_dict({"tool": {"3": {"NAME": "MILL_D12", "R": 6.0, "DR": -0.05}}})
     assert table[3] == HhTool(3, "MILL_D12", 0.0, 6.0, 0.0, -0.05)
-    text = prog("L X-10 Y-10 R0 FMAX", "L X+0 Y+0 RR F200", "L X+100 Y+0", "L X+100 Y+50 R0",
-                head='0 BEGIN PGM T MM\n1 TOOL CALL "MILL_D12" Z S2000 DR+0.3\n2 L Z+0 FMAX\n')
+    text = prog(
+        "L X-10 Y-10 R0 FMAX",
+        "L X+0 Y+0 RR F200",
+        "L X+100 Y+0",
+        "L X+100 Y+50 R0",
+        head='0 BEGIN PGM T MM\n1 TOOL CALL "MILL_D12" Z S2000 DR+0.3\n2 L Z+0 FMAX\n',
+    )
     p = read_heidenhain(text, options=HeidenhainOptions(tools=table))
     assert p.moves[-2].comp.radius == pytest.approx(6.25)
 
@@ -60,12 +77,22 @@ def test_tool_table_unknown_key_is_an_error():
 
 
 def test_negative_compensation_value_rejected():
-    text = prog("L X-10 Y-10 R0 FMAX", "L X+0 Y+0 RL F200", head="0 BEGIN PGM T MM\n1 TOOL DEF 1 R+1\n2 TOOL CALL 1 Z DR-2\n")
+    text = prog(
+        "L X-10 Y-10 R0 FMAX",
+        "L X+0 Y+0 RL F200",
+        head="0 BEGIN PGM T MM\n1 TOOL DEF 1 R+1\n2 TOOL CALL 1 Z DR-2\n",
+    )
     assert errors(read_heidenhain(text))[0][0] == "E_TRC_NEG_RADIUS"
 
 
 def test_tool_zero_has_radius_zero():
-    text = prog("L X-10 Y-10 R0 FMAX", "L X+0 Y+0 RL F200", "L X+10", "L X+20 Y+5 R0", head="0 BEGIN PGM T MM\n1 TOOL CALL 0 Z\n2 L Z+0 FMAX\n")
+    text = prog(
+        "L X-10 Y-10 R0 FMAX",
+        "L X+0 Y+0 RL F200",
+        "L X+10",
+        "L X+20 Y+5 R0",
+        head="0 BEGIN PGM T MM\n1 TOOL CALL 0 Z\n2 L Z+0 FMAX\n",
+    )
     p = read_heidenhain(text)
     assert not errors(p) and all(m.comp.radius == 0.0 for m in p.moves)
 
@@ -83,7 +110,12 @@ def test_lexer_words_flags_and_columns():
     b = lex_block("15 L X+10.5 IY-5 RL F200 M3 ; note", 7)
     assert (b.number, b.statement, b.comment) == ("15", "L", "note")
     assert [(w.address, w.value, w.column) for w in b.words] == [
-        ("X", 10.5, 6), ("IY", -5.0, 13), ("RL", None, 18), ("F", 200.0, 21), ("M", 3.0, 26)]
+        ("X", 10.5, 6),
+        ("IY", -5.0, 13),
+        ("RL", None, 18),
+        ("F", 200.0, 21),
+        ("M", 3.0, 26),
+    ]
     b = lex_block("APPR LCT X+0 Y+20 R10 RL", 1)
     assert b.statement == "APPR LCT" and b.words[2].address == "R"
     assert [w.address for w in lex_block("L X+1 R+", 1).words] == ["X", "R+"]
@@ -99,7 +131,11 @@ def test_inch_program_converts_to_mm():
 
 
 def test_tool_axis_y_uses_the_zx_plane():
-    text = prog("L X+0 Z+0 R0 FMAX", "L X+10 Z+0 F100", head="0 BEGIN PGM T MM\n1 TOOL DEF 1 R+2\n2 TOOL CALL 1 Y\n")
+    text = prog(
+        "L X+0 Z+0 R0 FMAX",
+        "L X+10 Z+0 F100",
+        head="0 BEGIN PGM T MM\n1 TOOL DEF 1 R+2\n2 TOOL CALL 1 Y\n",
+    )
     p = read_heidenhain(text)
     assert p.moves[-1].plane.value == "G18"
 
@@ -111,19 +147,40 @@ def test_incremental_words_refer_to_the_last_position():
 
 
 def test_polar_lp_pa_ipa_and_modal_pr():
-    p = read_heidenhain(prog("L X+90 Y+25 R0 FMAX", "CC X+45 Y+25", "LP PR+30 PA+0 F300", "LP PA+60", "LP IPA+60", "LP IPR+10 IPA-30"))
-    assert ends(p)[1:] == [(75, 25), (60, 50.9808), (30, 50.9808), pytest.approx((45 + 40 * math.cos(math.radians(90)), 65), abs=1e-4)]
+    p = read_heidenhain(
+        prog(
+            "L X+90 Y+25 R0 FMAX",
+            "CC X+45 Y+25",
+            "LP PR+30 PA+0 F300",
+            "LP PA+60",
+            "LP IPA+60",
+            "LP IPR+10 IPA-30",
+        )
+    )
+    assert ends(p)[1:] == [
+        (75, 25),
+        (60, 50.9808),
+        (30, 50.9808),
+        pytest.approx((45 + 40 * math.cos(math.radians(90)), 65), abs=1e-4),
+    ]
 
 
 def test_incremental_cc_and_cp_arc_about_the_pole():
     p = read_heidenhain(prog("L X+10 Y+0 R0 FMAX", "CC IX-10 IY+0", "CP IPA+90 DR+ F100"))
     arc = p.moves[-1]
     assert arc.kind is MoveKind.ARC and arc.ccw is True
-    assert arc.center[:2] == pytest.approx((0, 0)) and arc.end[:2] == pytest.approx((0, 10), abs=1e-12)
+    assert arc.center[:2] == pytest.approx((0, 0)) and arc.end[:2] == pytest.approx(
+        (0, 10), abs=1e-12
+    )
 
 
 def test_cr_centres_of_the_four_arcs_h9():
-    for word, centre in [("R+20 DR-", (55, 26.7712)), ("R+20 DR+", (55, 53.2288)), ("R-20 DR-", (55, 53.2288)), ("R-20 DR+", (55, 26.7712))]:
+    for word, centre in [
+        ("R+20 DR-", (55, 26.7712)),
+        ("R+20 DR+", (55, 53.2288)),
+        ("R-20 DR-", (55, 53.2288)),
+        ("R-20 DR+", (55, 26.7712)),
+    ]:
         p = read_heidenhain(prog("L X+40 Y+40 R0 F100", f"CR X+70 Y+40 {word}"))
         assert p.moves[-1].center[:2] == pytest.approx(centre, abs=1e-4), word
 
@@ -144,12 +201,24 @@ def test_ct_without_a_previous_element():
         (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L X+10 Y+10 RR"), "E_TRC_SIDE_SWITCH", "5"),
         (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L Z+5 R0", "L X+10 Y+10 RR"), "E_SYNTAX", "5"),
         (("L X+0 Y+0 R0 F100", "CC X+5 Y+0", "C X+10 Y+0 DR+ RL"), "E_TRC_IN_CIRCLE", "5"),
-        (("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "END PGM T MM"), "E_APPR_NO_CONTOUR", "4"),
-        (("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "L X+10 Y+0 R0"), "E_TRC_SIDE_SWITCH", "5"),
+        (
+            ("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "END PGM T MM"),
+            "E_APPR_NO_CONTOUR",
+            "4",
+        ),
+        (
+            ("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "L X+10 Y+0 R0"),
+            "E_TRC_SIDE_SWITCH",
+            "5",
+        ),
         (("L X+0 Y+0 R0 FMAX", "L X+50 Y+10 R+ F100"), "E_PARAXIAL_NOT_PARAXIAL", "4"),
         (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 5"), "E_SYNTAX", "5"),
         (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 20", "L X+10 Y+10"), "E_CHF_TOO_LARGE", "6"),
-        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "RND R50", "L X+10 Y+10"), "E_RND_TOO_LARGE", "6"),
+        (
+            ("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "RND R50", "L X+10 Y+10"),
+            "E_RND_TOO_LARGE",
+            "6",
+        ),
         (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0"), "E_NO_FEED", "4"),
     ],
 )
@@ -163,7 +232,16 @@ def test_bad_input_diagnostics(blocks, code, block):
 
 
 def test_rl_then_rr_after_an_r0_traversing_block_is_fine():
-    p = read_heidenhain(prog("L X+0 Y+0 RL F100", "L X+10 Y+0", "L X+20 Y+0 R0", "L X+30 Y+0 RR", "L X+40 Y+0", "L X+50 Y+0 R0"))
+    p = read_heidenhain(
+        prog(
+            "L X+0 Y+0 RL F100",
+            "L X+10 Y+0",
+            "L X+20 Y+0 R0",
+            "L X+30 Y+0 RR",
+            "L X+40 Y+0",
+            "L X+50 Y+0 R0",
+        )
+    )
     assert not errors(p)
 
 
@@ -175,28 +253,38 @@ def test_error_stops_moves_before_the_block_and_plan_reports_it():
 
 
 def test_rnd_between_a_line_and_an_arc_is_tangent_to_both():
-    p = read_heidenhain(prog("L X-20 Y+0 R0 FMAX", "CC X+0 Y+0", "L X-10 Y+0 F100", "RND R2", "C X+0 Y+10 DR-"))
+    p = read_heidenhain(
+        prog("L X-20 Y+0 R0 FMAX", "CC X+0 Y+0", "L X-10 Y+0 F100", "RND R2", "C X+0 Y+10 DR-")
+    )
     assert not errors(p)
     line, fillet, arc = p.moves[-3:]
     assert fillet.kind is MoveKind.ARC
     assert math.dist(fillet.center[:2], line.end[:2]) == pytest.approx(2.0)
-    assert math.dist(fillet.center[:2], (0, 0)) == pytest.approx(12.0)  # left of the CW arc: outside it
+    assert math.dist(fillet.center[:2], (0, 0)) == pytest.approx(
+        12.0
+    )  # left of the CW arc: outside it
     assert math.dist(arc.start[:2], (0, 0)) == pytest.approx(10.0)
 
 
 def test_m97_sets_the_intersection_on_the_following_block():
-    p = read_heidenhain(prog("L X-30 Y+0 R0 FMAX", "L X+0 Y+0 RR F200", "L X+50 Y+0 M97", "L IY+0.5"))
+    p = read_heidenhain(
+        prog("L X-30 Y+0 R0 FMAX", "L X+0 Y+0 RR F200", "L X+50 Y+0 M97", "L IY+0.5")
+    )
     assert [m.comp.corner.value for m in p.moves[-2:]] == ["G450", "G451"]
     assert "M97" in p.moves[-2].actions
 
 
 def test_appr_with_r0_warns_and_uses_radius_zero():
-    p = read_heidenhain(prog("L X-20 Y-20 R0 F500", "APPR LT X+0 Y+0 LEN10 R0 F200", "L X+0 Y+40", "L X+10 Y+40"))
+    p = read_heidenhain(
+        prog("L X-20 Y-20 R0 F500", "APPR LT X+0 Y+0 LEN10 R0 F200", "L X+0 Y+40", "L X+10 Y+40")
+    )
     assert not errors(p) and any(d.code == "E_APPR_R0" for d in p.diagnostics)
     assert ends(p)[1:3] == [(0, -10), (0, 0)]
 
 
 def test_appr_tool_axis_coordinate_moves_plane_first():
-    p = read_heidenhain(prog("L X-20 Y-20 Z+10 R0 F500", "APPR LT X+0 Y+0 Z-5 LEN10 RL F200", "L X+0 Y+40"))
+    p = read_heidenhain(
+        prog("L X-20 Y-20 Z+10 R0 F500", "APPR LT X+0 Y+0 Z-5 LEN10 RL F200", "L X+0 Y+40")
+    )
     zs = [(m.start[2], m.end[2]) for m in p.moves[1:4]]
     assert zs == [(10, 10), (10, -5), (-5, -5)]

@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from trcopt.compensation.profiles import HEIDENHAIN, compensate_with_profile, map_diagnostic, profile_for
+from trcopt.compensation.profiles import (
+    HEIDENHAIN,
+    compensate_with_profile,
+    map_diagnostic,
+    profile_for,
+)
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.nc.dialects.heidenhain import read_heidenhain
 from trcopt.nc.model import CornerMode
@@ -36,7 +41,11 @@ def test_dep_lt_h4():
 def test_appr_ct_and_dep_ct_h6():
     lead = sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 90.0, 10.0)
     (s0, e0, _), (s1, e1, c1) = pts(lead)
-    assert e0 == pytest.approx((-10, 15)) and c1 == pytest.approx((-10, 20)) and e1 == pytest.approx((-5, 20))
+    assert (
+        e0 == pytest.approx((-10, 15))
+        and c1 == pytest.approx((-10, 20))
+        and e1 == pytest.approx((-5, 20))
+    )
     assert lead.centre[1].ccw is True
     dep = sar.dep_ct((0, 20), UP, 1, 5.0, 90.0, 10.0)
     assert dep.points["PN"] == pytest.approx((-10, 25)) and dep.centre[0].ccw is True
@@ -44,7 +53,9 @@ def test_appr_ct_and_dep_ct_h6():
 
 def test_appr_ct_centre_reading_r9_h6():
     lead = sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 90.0, 10.0, radius_ref="centre")
-    assert lead.points["M"] == pytest.approx((-15, 20)) and lead.centre[0].end == pytest.approx((-15, 10))
+    assert lead.points["M"] == pytest.approx((-15, 20)) and lead.centre[0].end == pytest.approx(
+        (-15, 10)
+    )
 
 
 def test_appr_lct_and_dep_lct_h7():
@@ -71,11 +82,17 @@ def test_appr_ct_material_side_e6():
 @pytest.mark.parametrize(
     ("call", "code"),
     [
-        (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 90.0, 4.0), "E_TOOL_RADIUS_TOO_LARGE"),  # E5
+        (
+            lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 90.0, 4.0),
+            "E_TOOL_RADIUS_TOO_LARGE",
+        ),  # E5
         (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 0.0, 10.0), "E_APPR_CCA"),
         (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 361.0, 10.0), "E_APPR_CCA"),
         (lambda: sar.appr_lct((-11, 21), (0, 20), UP, 1, 5.0, 10.0), "E_APPR_NO_TANGENT"),
-        (lambda: sar.appr_lct((-30, 0), (0, 20), UP, 1, 9.0, 9.0), "E_TOOL_RADIUS_TOO_LARGE"),  # H28 / R9
+        (
+            lambda: sar.appr_lct((-30, 0), (0, 20), UP, 1, 9.0, 9.0),
+            "E_TOOL_RADIUS_TOO_LARGE",
+        ),  # H28 / R9
     ],
 )
 def test_lead_errors(call, code):
@@ -110,8 +127,10 @@ def test_engine_alarms_read_as_tool_radius_too_large(key):
 
 def test_compensate_with_profile_small_deflection_gets_the_transition_arc():
     # a 5° outside corner: SINUMERIK's curve-insert limit would intersect, the TNC inserts the arc
-    text = ("0 BEGIN PGM T MM\n1 TOOL DEF 1 R+5\n2 TOOL CALL 1 Z\n3 L X-10 Y+10 R0 FMAX\n4 L X+0 Y+0 RR F100\n"
-            "5 L X+50 Y+0\n6 L X+100 Y+4.3744\n7 L X+120 Y+20 R0\n8 END PGM T MM\n")
+    text = (
+        "0 BEGIN PGM T MM\n1 TOOL DEF 1 R+5\n2 TOOL CALL 1 Z\n3 L X-10 Y+10 R0 FMAX\n4 L X+0 Y+0 RR F100\n"
+        "5 L X+50 Y+0\n6 L X+100 Y+4.3744\n7 L X+120 Y+20 R0\n8 END PGM T MM\n"
+    )
     p = read_heidenhain(text)
     diags: list[Diagnostic] = []
     segs = list(compensate_with_profile(p.moves, HEIDENHAIN, None, diags))
@@ -121,8 +140,10 @@ def test_compensate_with_profile_small_deflection_gets_the_transition_arc():
 
 def test_compensate_with_profile_maps_a_bottleneck_to_an_error():
     # pocket 40 x 30 with r = 16: offsets reverse; the engine alone only warns under CDOF
-    text = ("0 BEGIN PGM T MM\n1 TOOL DEF 1 R+16\n2 TOOL CALL 1 Z\n3 L X+30 Y+25 R0 FMAX\n4 L X+30 Y+10 RL F200\n"
-            "5 L X+50 Y+10\n6 L X+50 Y+40\n7 L X+10 Y+40\n8 L X+10 Y+10\n9 L X+30 Y+10\n10 L X+30 Y+25 R0\n11 END PGM T MM\n")
+    text = (
+        "0 BEGIN PGM T MM\n1 TOOL DEF 1 R+16\n2 TOOL CALL 1 Z\n3 L X+30 Y+25 R0 FMAX\n4 L X+30 Y+10 RL F200\n"
+        "5 L X+50 Y+10\n6 L X+50 Y+40\n7 L X+10 Y+40\n8 L X+10 Y+10\n9 L X+30 Y+10\n10 L X+30 Y+25 R0\n11 END PGM T MM\n"
+    )
     from trcopt.nc.dialects import heidenhain as hh
 
     reader = hh.HeidenhainReader("p.h")
@@ -130,4 +151,6 @@ def test_compensate_with_profile_maps_a_bottleneck_to_an_error():
     p = reader.read(text)
     diags: list[Diagnostic] = []
     list(compensate_with_profile(p.moves, HEIDENHAIN, None, diags))
-    assert diags and diags[0].code == "E_TOOL_RADIUS_TOO_LARGE" and diags[0].severity is Severity.ERROR
+    assert (
+        diags and diags[0].code == "E_TOOL_RADIUS_TOO_LARGE" and diags[0].severity is Severity.ERROR
+    )

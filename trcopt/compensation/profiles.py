@@ -107,13 +107,27 @@ HEIDENHAIN = ControllerProfile(
             "10758": _TOO_LARGE,
             "10763": _TOO_LARGE,
             "TRC-CONTOUR-VIOLATION": _TOO_LARGE,
-            "TRC-SIDE-CHANGE": ("E_TRC_SIDE_SWITCH", "RL↔RR changed without an R0 block", Severity.ERROR),
-            "10753": ("E_TRC_IN_CIRCLE", "radius compensation switched on in a circle block", Severity.ERROR),
-            "10754": ("E_TRC_IN_CIRCLE", "radius compensation switched off in a circle block", Severity.ERROR),
+            "TRC-SIDE-CHANGE": (
+                "E_TRC_SIDE_SWITCH",
+                "RL↔RR changed without an R0 block",
+                Severity.ERROR,
+            ),
+            "10753": (
+                "E_TRC_IN_CIRCLE",
+                "radius compensation switched on in a circle block",
+                Severity.ERROR,
+            ),
+            "10754": (
+                "E_TRC_IN_CIRCLE",
+                "radius compensation switched off in a circle block",
+                Severity.ERROR,
+            ),
         }
     ),
 )
-PROFILES: Mapping[str, ControllerProfile] = MappingProxyType({"siemens": SIEMENS, "heidenhain": HEIDENHAIN})
+PROFILES: Mapping[str, ControllerProfile] = MappingProxyType(
+    {"siemens": SIEMENS, "heidenhain": HEIDENHAIN}
+)
 
 
 def profile_for(dialect: str) -> ControllerProfile:
@@ -121,7 +135,9 @@ def profile_for(dialect: str) -> ControllerProfile:
     try:
         return PROFILES[dialect]
     except KeyError:
-        raise ValueError(f"no compensation profile for {dialect!r}; valid: {', '.join(PROFILES)}") from None
+        raise ValueError(
+            f"no compensation profile for {dialect!r}; valid: {', '.join(PROFILES)}"
+        ) from None
 
 
 def map_diagnostic(profile: ControllerProfile, diag: Diagnostic) -> Diagnostic:

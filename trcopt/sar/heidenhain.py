@@ -154,7 +154,14 @@ def appr_ln(ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, length: float) -> 
 
 
 def appr_ct(
-    ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, cca: float, radius: float, radius_ref: str = "contour"
+    ps: Vec2,
+    pa: Vec2,
+    t: Vec2,
+    side: int,
+    r: float,
+    cca: float,
+    radius: float,
+    radius_ref: str = "contour",
 ) -> Lead:
     """APPR CT: arc tangent to the first element at PA, centre M = PA + Rc·n, through CCA (deg);
     R > 0: centre on the tool side (RL CCW, RR CW), R < 0: on the material side (RL CW, RR CCW)."""

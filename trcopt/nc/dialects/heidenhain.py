@@ -76,7 +76,9 @@ class HeidenhainOptions:
 
 
 class _Stop(Exception):
-    def __init__(self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None) -> None:
+    def __init__(
+        self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None
+    ) -> None:
         super().__init__(message)
         self.code, self.message, self.column, self.span = code, message, column, span
 
@@ -101,7 +103,9 @@ class HeidenhainReader:
 
     name = "heidenhain"
 
-    def __init__(self, file: str = "<program>", tolerances=None, options: HeidenhainOptions | None = None) -> None:  # type: ignore[no-untyped-def]
+    def __init__(
+        self, file: str = "<program>", tolerances=None, options: HeidenhainOptions | None = None
+    ) -> None:  # type: ignore[no-untyped-def]
         from ...config import Tolerances
 
         self.file = file
@@ -153,9 +157,15 @@ class HeidenhainReader:
                 break
         else:
             if self.appr is not None:
-                self._error("E_APPR_NO_CONTOUR", "APPR without a following contour element", self.appr.span)
+                self._error(
+                    "E_APPR_NO_CONTOUR", "APPR without a following contour element", self.appr.span
+                )
             elif self.corner is not None:
-                self._error("E_SYNTAX", f"{self.corner[0]} without a following contour element", self.corner[3])
+                self._error(
+                    "E_SYNTAX",
+                    f"{self.corner[0]} without a following contour element",
+                    self.corner[3],
+                )
         self._check_radius()
         moves = self._moves()
         return NcProgram(self.file, "heidenhain", tuple(moves), tuple(self.diags), self.blocks)
@@ -167,7 +177,9 @@ class HeidenhainReader:
         try:
             table = load_tool_table(path)
         except ConfigError as exc:
-            self._warn("W_TOOL_TABLE", f"tool table ignored: {exc.message}", SourceSpan(self.file, 1, 1))
+            self._warn(
+                "W_TOOL_TABLE", f"tool table ignored: {exc.message}", SourceSpan(self.file, 1, 1)
+            )
             return
         self.tools = {**table, **self.tools}
 
@@ -193,7 +205,9 @@ class HeidenhainReader:
             if key in out and key:
                 raise _Stop("E_SYNTAX", f"word {key} programmed twice", w.column)
             if key in _COMP and any(k in _COMP for k in out):
-                raise _Stop("E_SYNTAX", "more than one compensation word (RL/RR/R0/R+/R-)", w.column)
+                raise _Stop(
+                    "E_SYNTAX", "more than one compensation word (RL/RR/R0/R+/R-)", w.column
+                )
             out[key or f"#{len(out)}"] = w
         return out
 
@@ -242,9 +256,17 @@ class HeidenhainReader:
         if st == "END PGM":
             self.ended = True
             if self.corner is not None:
-                raise _Stop("E_SYNTAX", f"{self.corner[0]} without a following contour element", span=self.corner[3])
+                raise _Stop(
+                    "E_SYNTAX",
+                    f"{self.corner[0]} without a following contour element",
+                    span=self.corner[3],
+                )
             if self.appr is not None:
-                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element", span=self.appr.span)
+                raise _Stop(
+                    "E_APPR_NO_CONTOUR",
+                    "APPR without a following contour element",
+                    span=self.appr.span,
+                )
             return
         if st.startswith("BLK FORM"):
             return
@@ -254,7 +276,11 @@ class HeidenhainReader:
         if st == "PGM CALL":
             self._no_open_corner(st)
             self.side = self.last_on_side = Side.OFF
-            self._warn("W_PGM_CALL", "PGM CALL: the called program is not executed; compensation cancelled", span)
+            self._warn(
+                "W_PGM_CALL",
+                "PGM CALL: the called program is not executed; compensation cancelled",
+                span,
+            )
             return
         if st.startswith("APPR"):
             self._no_open_corner(st)
@@ -283,9 +309,15 @@ class HeidenhainReader:
 
     def _no_open_corner(self, what: str) -> None:
         if self.corner is not None:
-            raise _Stop("E_SYNTAX", f"{self.corner[0]} must be followed by a contour element, not {what}")
+            raise _Stop(
+                "E_SYNTAX", f"{self.corner[0]} must be followed by a contour element, not {what}"
+            )
         if self.appr is not None and not what.startswith("CC"):
-            raise _Stop("E_APPR_NO_CONTOUR", f"APPR without a following contour element ({what} follows)", span=self.appr.span)
+            raise _Stop(
+                "E_APPR_NO_CONTOUR",
+                f"APPR without a following contour element ({what} follows)",
+                span=self.appr.span,
+            )
 
     def _tool(self, blk: Block, words: dict[str, Word], span: SourceSpan) -> None:
         bare = [w for k, w in words.items() if k.startswith("#")]
@@ -296,7 +328,11 @@ class HeidenhainReader:
             if not ident.isdigit():
                 raise _Stop("E_SYNTAX", "TOOL DEF needs a tool number", bare[0].column)
             n = int(ident)
-            val = {k: float(w.value or 0.0) * self.unit for k, w in words.items() if not k.startswith("#")}
+            val = {
+                k: float(w.value or 0.0) * self.unit
+                for k, w in words.items()
+                if not k.startswith("#")
+            }
             self.tools[n] = HhTool(n, "", val.get("L", 0.0), val.get("R", 0.0), 0.0, 0.0)
             return
         if len(bare) < 2 or bare[1].text.upper() not in _AXIS_PLANE:
@@ -304,9 +340,17 @@ class HeidenhainReader:
         if ident.isdigit() and int(ident) == 0:
             tool = HhTool(0)
         else:
-            found = [t for t in self.tools.values() if (ident.isdigit() and t.number == int(ident)) or t.name == ident]
+            found = [
+                t
+                for t in self.tools.values()
+                if (ident.isdigit() and t.number == int(ident)) or t.name == ident
+            ]
             if not found:
-                raise _Stop("E_TOOL_UNKNOWN", f"tool {ident} is neither defined (TOOL DEF) nor in the tool table", bare[0].column)
+                raise _Stop(
+                    "E_TOOL_UNKNOWN",
+                    f"tool {ident} is neither defined (TOOL DEF) nor in the tool table",
+                    bare[0].column,
+                )
             tool = found[0]
         self._no_open_corner("TOOL CALL")
         self.tool = tool
@@ -320,7 +364,11 @@ class HeidenhainReader:
             raise _Stop("E_NO_TOOL", "radius compensation without a TOOL CALL", column)
         r = compensation_value(self.tool.radius, self.tool.dr, self.dr_call)
         if r < 0:
-            raise _Stop("E_TRC_NEG_RADIUS", f"compensation value R + DR_TAB + DR_CALL = {r:g} mm is negative", column)
+            raise _Stop(
+                "E_TRC_NEG_RADIUS",
+                f"compensation value R + DR_TAB + DR_CALL = {r:g} mm is negative",
+                column,
+            )
         return r
 
     # ------------------------------------------------------------------ motion
@@ -347,20 +395,40 @@ class HeidenhainReader:
         if comp in ("RL", "RR"):
             new = Side.LEFT if comp == "RL" else Side.RIGHT
             if self.side is Side.OFF and self.last_on_side not in (Side.OFF, new):
-                raise _Stop("E_TRC_SIDE_SWITCH", "RL/RR changed without an R0 traversing block in the working plane", words[comp].column)
+                raise _Stop(
+                    "E_TRC_SIDE_SWITCH",
+                    "RL/RR changed without an R0 traversing block in the working plane",
+                    words[comp].column,
+                )
             if self.side not in (Side.OFF, new):
-                raise _Stop("E_TRC_SIDE_SWITCH", "RL↔RR changed directly: program an R0 block in between", words[comp].column)
+                raise _Stop(
+                    "E_TRC_SIDE_SWITCH",
+                    "RL↔RR changed directly: program an R0 block in between",
+                    words[comp].column,
+                )
             if self.side is Side.OFF and st not in ("L", "LP"):
-                raise _Stop("E_TRC_IN_CIRCLE", "radius compensation can only be switched on in a straight-line block", words[comp].column)
+                raise _Stop(
+                    "E_TRC_IN_CIRCLE",
+                    "radius compensation can only be switched on in a straight-line block",
+                    words[comp].column,
+                )
             side = new
         elif comp == "R0":
             if self.side is not Side.OFF and st not in ("L", "LP"):
-                raise _Stop("E_TRC_IN_CIRCLE", "radius compensation can only be cancelled in a straight-line block", words[comp].column)
+                raise _Stop(
+                    "E_TRC_IN_CIRCLE",
+                    "radius compensation can only be cancelled in a straight-line block",
+                    words[comp].column,
+                )
             side = Side.OFF
         radius = self._radius(words[comp].column if comp else None) if side is not Side.OFF else 0.0
         if comp in ("R+", "R-"):
             if self.side is not Side.OFF:
-                raise _Stop("E_SYNTAX", "paraxial R+/R- while RL/RR is active: program R0 first", words[comp].column)
+                raise _Stop(
+                    "E_SYNTAX",
+                    "paraxial R+/R- while RL/RR is active: program R0 first",
+                    words[comp].column,
+                )
             if st != "L":
                 raise _Stop("E_SYNTAX", f"paraxial {comp} only in an L block", words[comp].column)
             target = self._paraxial(words, comp, target)
@@ -368,12 +436,25 @@ class HeidenhainReader:
         moving_plane = math.hypot(e_uvw[0] - s_uvw[0], e_uvw[1] - s_uvw[1]) > 1e-9
         if side is Side.OFF and self.side is not Side.OFF:
             if not moving_plane:
-                raise _Stop("E_SYNTAX", "R0 must be programmed in a block that moves in the working plane")
+                raise _Stop(
+                    "E_SYNTAX", "R0 must be programmed in a block that moves in the working plane"
+                )
         if not rapid and feed is None and (moving_plane or e_uvw[2] != s_uvw[2]):
             raise _Stop("E_NO_FEED", "no feed rate programmed (F or FMAX)")
         kind = MoveKind.RAPID if rapid else MoveKind.LINE
-        elem = Elem(kind, s_uvw, e_uvw, span, side, radius, None if rapid else feed, actions=self._actions(words),
-                    m97="M97" in words, side_programmed=side_programmed, tool_active=self.tool is not None)
+        elem = Elem(
+            kind,
+            s_uvw,
+            e_uvw,
+            span,
+            side,
+            radius,
+            None if rapid else feed,
+            actions=self._actions(words),
+            m97="M97" in words,
+            side_programmed=side_programmed,
+            tool_active=self.tool is not None,
+        )
         if st in ("C", "CR", "CT", "CP", "CTP"):
             self._arc(st, words, elem)
         if elem.kind is not MoveKind.ARC and not moving_plane and e_uvw[2] == s_uvw[2]:
@@ -384,9 +465,16 @@ class HeidenhainReader:
             self._resolve_corner(elem)
         if self.appr is not None:
             if not moving_plane and elem.kind is not MoveKind.ARC:
-                raise _Stop("E_APPR_NO_CONTOUR", "APPR without a following contour element (no motion in the working plane)", span=self.appr.span)
+                raise _Stop(
+                    "E_APPR_NO_CONTOUR",
+                    "APPR without a following contour element (no motion in the working plane)",
+                    span=self.appr.span,
+                )
             if side is not self.appr.side:
-                raise _Stop("E_TRC_SIDE_SWITCH", "the element after APPR must keep the APPR compensation side")
+                raise _Stop(
+                    "E_TRC_SIDE_SWITCH",
+                    "the element after APPR must keep the APPR compensation side",
+                )
             self._finish_appr(elem)
         self._commit_side(side, moving_plane)
         self.elems.append(elem)
@@ -409,7 +497,11 @@ class HeidenhainReader:
         u, v, _ = self.plane.axes
         plane_words = [k for k in words if k in _XYZ and _COORD[k[-1]] in (u, v)]
         if len(plane_words) > 1:
-            raise _Stop("E_PARAXIAL_NOT_PARAXIAL", f"{comp} needs exactly one working-plane coordinate", words[comp].column)
+            raise _Stop(
+                "E_PARAXIAL_NOT_PARAXIAL",
+                f"{comp} needs exactly one working-plane coordinate",
+                words[comp].column,
+            )
         if not plane_words:
             return target
         i = _COORD[plane_words[0][-1]]
@@ -456,24 +548,41 @@ class HeidenhainReader:
             tol = max(self.tol.arc_end_radius_mm, 1e-6)
             circle_about(elem.start, elem.end, self.pole, tol)
             elem.center, elem.ccw = self.pole, self.direction
-            if st == "CP" and "IPA" in words and abs(float(words["IPA"].value or 0.0)) >= 360.0 - 1e-9:  # type: ignore[arg-type]
+            if (
+                st == "CP"
+                and "IPA" in words
+                and abs(float(words["IPA"].value or 0.0)) >= 360.0 - 1e-9
+            ):  # type: ignore[arg-type]
                 elem.turns = max(0, int(abs(float(words["IPA"].value or 0.0)) // 360.0) - 1)  # type: ignore[arg-type]
         elif st == "CR":
             if "R" not in words or not ("DR+" in words or "DR-" in words):
                 raise _Stop("E_SYNTAX", "CR needs R and DR+ or DR-")
-            elem.center = circle_by_radius(elem.start, elem.end, float(words["R"].value) * self.unit, "DR+" in words)  # type: ignore[arg-type]
+            elem.center = circle_by_radius(
+                elem.start, elem.end, float(words["R"].value) * self.unit, "DR+" in words
+            )  # type: ignore[arg-type]
             elem.ccw = "DR+" in words
         else:  # CT, CTP
             prev = self.elems[-1] if self.elems else None
-            if prev is None or self.corner is not None or vec.dist(prev.end[:2], elem.start[:2]) > 1e-6:
-                raise ContourError("E_CT_NO_TANGENT", f"{st} needs a preceding element in the working plane")
+            if (
+                prev is None
+                or self.corner is not None
+                or vec.dist(prev.end[:2], elem.start[:2]) > 1e-6
+            ):
+                raise ContourError(
+                    "E_CT_NO_TANGENT", f"{st} needs a preceding element in the working plane"
+                )
             elem.center, elem.ccw = circle_tangential(elem.start, elem.end, prev.end_tangent())
 
     # ------------------------------------------------------------------ RND / CHF
     def _corner_block(self, blk: Block, span: SourceSpan) -> None:
         words = self._words(blk, _ALLOWED[blk.statement])
         prev = self.elems[-1] if self.elems else None
-        if prev is None or prev.kind is MoveKind.RAPID or self.corner is not None or self.appr is not None:
+        if (
+            prev is None
+            or prev.kind is MoveKind.RAPID
+            or self.corner is not None
+            or self.appr is not None
+        ):
             raise _Stop("E_SYNTAX", f"a contour must not start with {blk.statement}")
         if blk.statement == "RND":
             if "R" not in words:
@@ -515,19 +624,40 @@ class HeidenhainReader:
         target = self._polar_target(words, line=True) if polar else self._target(words)
         side = {"RL": Side.LEFT, "RR": Side.RIGHT, "R0": Side.OFF}[comp]
         if side is not Side.OFF and self.last_on_side not in (Side.OFF, side):
-            raise _Stop("E_TRC_SIDE_SWITCH", "RL/RR changed without an R0 traversing block", words[comp].column)
+            raise _Stop(
+                "E_TRC_SIDE_SWITCH",
+                "RL/RR changed without an R0 traversing block",
+                words[comp].column,
+            )
         r = self._radius(words[comp].column) if side is not Side.OFF else 0.0
         if side is Side.OFF:
-            self._warn("E_APPR_R0", "APPR with R0: path computed with radius 0 on side RR (iTNC 530)", span)
-        vals = {k: float(w.value) for k, w in words.items() if w.value is not None and k in ("LEN", "CCA", "R")}
+            self._warn(
+                "E_APPR_R0", "APPR with R0: path computed with radius 0 on side RR (iTNC 530)", span
+            )
+        vals = {
+            k: float(w.value)
+            for k, w in words.items()
+            if w.value is not None and k in ("LEN", "CCA", "R")
+        }
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind.lstrip("P")]
         for k in need:
             if k not in vals:
                 raise _Stop("E_SYNTAX", f"APPR {kind} needs {k}")
         if kind.lstrip("P") == "LCT" and feed is None and not rapid:
             raise _Stop("E_APPR_NO_FEED", "APPR LCT without a programmed feed rate")
-        self.appr = _Appr(kind.lstrip("P"), self.pos, target, side, r, vals, feed_before, None if rapid else feed,
-                          "F" in words, span, self._actions(words))
+        self.appr = _Appr(
+            kind.lstrip("P"),
+            self.pos,
+            target,
+            side,
+            r,
+            vals,
+            feed_before,
+            None if rapid else feed,
+            "F" in words,
+            span,
+            self._actions(words),
+        )
         self.side = side
         if side is not Side.OFF:
             self.last_on_side = side
@@ -554,25 +684,48 @@ class HeidenhainReader:
         except sar.LeadError as exc:
             raise _Stop(exc.code, exc.message, span=a.span) from None
         if a.feed_before is None and a.kind != "LCT":
-            self._warn("W_APPR_RAPID", "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span)
+            self._warn(
+                "W_APPR_RAPID", "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span
+            )
         out: list[Elem] = []
         w_ps, w_pa = ps[2], pa[2]
         for k, piece in enumerate(lead.pieces):
             w0 = w_ps if k == 0 else w_pa
             feed = a.feed if (k > 0 or a.kind == "LCT") else a.feed_before
             side = a.side if piece.compensated else Side.OFF
-            e = Elem(MoveKind.LINE if piece.center is None else MoveKind.ARC, (*piece.start, w0), (*piece.end, w0),
-                     a.span, side, a.r if side is not Side.OFF else 0.0, feed, piece.center, piece.ccw,
-                     actions=a.actions if k == 0 else (), origin="approach", side_programmed=k == 0,
-                     tool_active=self.tool is not None)
+            e = Elem(
+                MoveKind.LINE if piece.center is None else MoveKind.ARC,
+                (*piece.start, w0),
+                (*piece.end, w0),
+                a.span,
+                side,
+                a.r if side is not Side.OFF else 0.0,
+                feed,
+                piece.center,
+                piece.ccw,
+                actions=a.actions if k == 0 else (),
+                origin="approach",
+                side_programmed=k == 0,
+                tool_active=self.tool is not None,
+            )
             if feed is None and e.kind is MoveKind.LINE:
                 e.kind = MoveKind.RAPID
             out.append(e)
             if k == 0 and abs(w_pa - w_ps) > 1e-12:  # R7: plane first, then the tool axis
                 nxt_side = a.side if lead.pieces[1].compensated else Side.OFF
-                out.append(Elem(MoveKind.LINE, (*piece.end, w_ps), (*piece.end, w_pa), a.span, nxt_side,
-                                e.radius if nxt_side is not Side.OFF else 0.0, a.feed, origin="approach",
-                                tool_active=e.tool_active))
+                out.append(
+                    Elem(
+                        MoveKind.LINE,
+                        (*piece.end, w_ps),
+                        (*piece.end, w_pa),
+                        a.span,
+                        nxt_side,
+                        e.radius if nxt_side is not Side.OFF else 0.0,
+                        a.feed,
+                        origin="approach",
+                        tool_active=e.tool_active,
+                    )
+                )
         self.elems.extend(out)
         self.appr = None
 
@@ -584,11 +737,19 @@ class HeidenhainReader:
             raise _Stop("E_SYNTAX", "DEP needs a preceding contour element")
         side, r = self.side, last.radius
         if side is Side.OFF:
-            self._warn("W_DEP_R0", "DEP without radius compensation: computed with radius 0 on side RR", span)
+            self._warn(
+                "W_DEP_R0",
+                "DEP without radius compensation: computed with radius 0 on side RR",
+                span,
+            )
             r = 0.0
         s = side.sign if side is not Side.OFF else -1
         feed, rapid = self._feed_of(words)
-        vals = {k: float(w.value) for k, w in words.items() if w.value is not None and k in ("LEN", "CCA", "R")}
+        vals = {
+            k: float(w.value)
+            for k, w in words.items()
+            if w.value is not None and k in ("LEN", "CCA", "R")
+        }
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind]
         for k in need:
             if k not in vals:
@@ -603,23 +764,48 @@ class HeidenhainReader:
         elif kind == "CT":
             lead = sar.dep_ct(pe2, t, s, r, vals["CCA"], vals["R"] * self.unit, ref)
         else:
-            pn = self._uvw(self._polar_target(words, line=True) if blk.statement.endswith("PLCT") else self._target(words))
+            pn = self._uvw(
+                self._polar_target(words, line=True)
+                if blk.statement.endswith("PLCT")
+                else self._target(words)
+            )
             w_end = pn[2]
             lead = sar.dep_lct(pe2, t, s, r, (pn[0], pn[1]), vals["R"] * self.unit, ref)
         block_feed = None if rapid else feed
         for k, piece in enumerate(lead.pieces):
             eside = side if piece.compensated else Side.OFF
-            e = Elem(MoveKind.LINE if piece.center is None else MoveKind.ARC, (*piece.start, pe[2]), (*piece.end, pe[2]),
-                     span, eside, r if eside is not Side.OFF else 0.0, block_feed, piece.center, piece.ccw,
-                     actions=self._actions(words) if k == 0 else (), origin="retract",
-                     side_programmed=not piece.compensated, tool_active=self.tool is not None)
+            e = Elem(
+                MoveKind.LINE if piece.center is None else MoveKind.ARC,
+                (*piece.start, pe[2]),
+                (*piece.end, pe[2]),
+                span,
+                eside,
+                r if eside is not Side.OFF else 0.0,
+                block_feed,
+                piece.center,
+                piece.ccw,
+                actions=self._actions(words) if k == 0 else (),
+                origin="retract",
+                side_programmed=not piece.compensated,
+                tool_active=self.tool is not None,
+            )
             if block_feed is None and e.kind is MoveKind.LINE:
                 e.kind = MoveKind.RAPID
             self.elems.append(e)
         pn_uv = lead.pieces[-1].end
         if abs(w_end - pe[2]) > 1e-12:  # R7: plane first, then the tool axis
-            self.elems.append(Elem(MoveKind.LINE, (*pn_uv, pe[2]), (*pn_uv, w_end), span, Side.OFF, 0.0, block_feed,
-                                   origin="retract"))
+            self.elems.append(
+                Elem(
+                    MoveKind.LINE,
+                    (*pn_uv, pe[2]),
+                    (*pn_uv, w_end),
+                    span,
+                    Side.OFF,
+                    0.0,
+                    block_feed,
+                    origin="retract",
+                )
+            )
         self.pos = self.plane.to_xyz((pn_uv[0], pn_uv[1], w_end))
         self.side = Side.OFF
         self.last_on_side = Side.OFF
@@ -647,7 +833,11 @@ class HeidenhainReader:
             bad = region[found[0]]
             cut = next(i for i, e in enumerate(self.elems) if e.span.line == bad.span.line)
             del self.elems[cut:]
-            self.diags = [d for d in self.diags if d.severity is not Severity.ERROR or d.span.line < bad.span.line]
+            self.diags = [
+                d
+                for d in self.diags
+                if d.severity is not Severity.ERROR or d.span.line < bad.span.line
+            ]
             self._error("E_TOOL_RADIUS_TOO_LARGE", f"{TOOL_RADIUS_TOO_LARGE}: {found[1]}", bad.span)
             return
 
@@ -657,19 +847,39 @@ class HeidenhainReader:
         for e in self.elems:
             plane = e.extra.get("plane", self.plane)
             assert isinstance(plane, Plane)
-            comp = CompState(side=e.side, radius=e.radius, tool_active=e.tool_active,
-                             corner=CornerMode.INTERSECTION if m97_before else CornerMode.TRANSITION_CIRCLE,
-                             side_programmed=e.side_programmed)
+            comp = CompState(
+                side=e.side,
+                radius=e.radius,
+                tool_active=e.tool_active,
+                corner=CornerMode.INTERSECTION if m97_before else CornerMode.TRANSITION_CIRCLE,
+                side_programmed=e.side_programmed,
+            )
             m97_before = e.m97
             center = None
             if e.center is not None:
                 center = plane.to_xyz((e.center[0], e.center[1], e.start[2]))
             actions = e.actions + (("M97",) if e.m97 and "M97" not in e.actions else ())
-            moves.append(Move(e.kind, plane.to_xyz(e.start), plane.to_xyz(e.end), plane, e.span, comp,
-                              e.feed, center, e.ccw if e.kind is MoveKind.ARC else None, e.turns, actions, origin=e.origin))
+            moves.append(
+                Move(
+                    e.kind,
+                    plane.to_xyz(e.start),
+                    plane.to_xyz(e.end),
+                    plane,
+                    e.span,
+                    comp,
+                    e.feed,
+                    center,
+                    e.ccw if e.kind is MoveKind.ARC else None,
+                    e.turns,
+                    actions,
+                    origin=e.origin,
+                )
+            )
         return moves
 
 
-def read_heidenhain(text: str, file: str = "<program>", tolerances=None, options: HeidenhainOptions | None = None) -> NcProgram:  # type: ignore[no-untyped-def]
+def read_heidenhain(
+    text: str, file: str = "<program>", tolerances=None, options: HeidenhainOptions | None = None
+) -> NcProgram:  # type: ignore[no-untyped-def]
     """Read a Klartext program; never raises for a problem in the program (see the module docstring)."""
     return HeidenhainReader(file, tolerances, options).read(text)

@@ -73,7 +73,14 @@ class Elem:
             assert self.center is not None
             arc = Arc.from_points(self.start, self.end, self.center, bool(self.ccw))
             if self.turns:
-                arc = Arc(arc.center, arc.radius, arc.a0, arc.sweep + math.copysign(2 * math.pi * self.turns, arc.sweep), arc.w0, arc.w1)
+                arc = Arc(
+                    arc.center,
+                    arc.radius,
+                    arc.a0,
+                    arc.sweep + math.copysign(2 * math.pi * self.turns, arc.sweep),
+                    arc.w0,
+                    arc.w1,
+                )
             return arc
         return Line(self.start, self.end)
 
@@ -110,9 +117,13 @@ def circle_by_radius(s: Vec3, e: Vec3, radius: float, ccw: bool) -> Vec2:
     a, b = _uv(s), _uv(e)
     c = vec.dist(a, b)
     if c <= _EPS:
-        raise ContourError("E_CR_CHORD", "CR: start and end point coincide (a full circle needs two CR blocks)")
+        raise ContourError(
+            "E_CR_CHORD", "CR: start and end point coincide (a full circle needs two CR blocks)"
+        )
     if c > 2.0 * abs(radius) + 1e-9:
-        raise ContourError("E_CR_CHORD", f"CR: chord {c:.4f} mm longer than the diameter {2 * abs(radius):.4f} mm")
+        raise ContourError(
+            "E_CR_CHORD", f"CR: chord {c:.4f} mm longer than the diameter {2 * abs(radius):.4f} mm"
+        )
     h = math.sqrt(max(radius * radius - c * c / 4.0, 0.0))
     mid = vec.scale(vec.add(a, b), 0.5)
     left = vec.rot90(vec.unit(vec.sub(b, a)))
@@ -127,7 +138,9 @@ def circle_tangential(s: Vec3, e: Vec3, t0: Vec2) -> tuple[Vec2, bool]:
     d = vec.sub(b, a)
     h = vec.dot(d, n)
     if abs(h) <= 1e-9 * max(1.0, vec.norm(d)):
-        raise ContourError("E_CT_NO_TANGENT", "CT: the end point lies on the tangent of the previous element")
+        raise ContourError(
+            "E_CT_NO_TANGENT", "CT: the end point lies on the tangent of the previous element"
+        )
     rho = vec.dot(d, d) / (2.0 * h)
     return vec.add(a, vec.scale(n, rho)), rho > 0
 
@@ -150,7 +163,9 @@ def apply_rnd(a: Elem, b: Elem, radius: float, span: SourceSpan) -> Elem:
         if -_EPS <= h.lam_a <= 1 + _EPS and -_EPS <= h.lam_b <= 1 + _EPS
     ]
     if not hits:
-        raise ContourError("E_RND_TOO_LARGE", f"RND R{radius:g} does not fit between the adjacent elements")
+        raise ContourError(
+            "E_RND_TOO_LARGE", f"RND R{radius:g} does not fit between the adjacent elements"
+        )
     m = min(hits, key=lambda h: vec.dist(h.point, corner)).point
     p1 = _foot(ga, m)
     p2 = _foot(gb, m)
@@ -174,7 +189,9 @@ def apply_chf(a: Elem, b: Elem, length: float, span: SourceSpan) -> Elem:
         raise ContourError("E_CHF_TOO_LARGE", f"CHF length must be > 0 (got {length:g})")
     la, lb = a.plane_length(), b.plane_length()
     if length > la + 1e-9 or length > lb + 1e-9:
-        raise ContourError("E_CHF_TOO_LARGE", f"CHF {length:g} longer than an adjacent line ({min(la, lb):.4f} mm)")
+        raise ContourError(
+            "E_CHF_TOO_LARGE", f"CHF {length:g} longer than an adjacent line ({min(la, lb):.4f} mm)"
+        )
     ta, tb = a.end_tangent(), b.start_tangent()
     p = _uv(a.end)
     p1, p2 = vec.sub(p, vec.scale(ta, length)), vec.add(p, vec.scale(tb, length))
@@ -199,7 +216,10 @@ def radius_too_large(region: list[Elem]) -> tuple[int, str] | None:
         g = e.geometry()
         off = g.offset(e.side.sign * e.radius)
         if isinstance(off, Arc) and off.radius <= 1e-9:
-            return k, f"tool-centre radius {off.radius:.4f} mm of the compensated arc is not positive"
+            return (
+                k,
+                f"tool-centre radius {off.radius:.4f} mm of the compensated arc is not positive",
+            )
         offs.append((g, off))
     lo = [0.0] * len(region)
     hi = [1.0] * len(region)

@@ -27,7 +27,13 @@ from pathlib import Path
 
 from ...errors import ConfigError
 
-__all__ = ["HhTool", "load_tool_table", "tool_table_from_dict", "find_tool_table", "compensation_value"]
+__all__ = [
+    "HhTool",
+    "load_tool_table",
+    "tool_table_from_dict",
+    "find_tool_table",
+    "compensation_value",
+]
 
 _KEYS = {"NAME", "L", "R", "DL", "DR", "R2", "DR2"}
 
@@ -49,7 +55,9 @@ def compensation_value(radius: float, dr_tab: float, dr_call: float) -> float:
     return radius + dr_tab + dr_call
 
 
-def tool_table_from_dict(data: Mapping[str, object], source: str = "<tool table>") -> dict[int, HhTool]:
+def tool_table_from_dict(
+    data: Mapping[str, object], source: str = "<tool table>"
+) -> dict[int, HhTool]:
     """Tools from the parsed TOML (``{"tool": {"3": {"R": 6.0, …}}}``); unknown keys are errors."""
     unknown = set(data) - {"tool"}
     if unknown:
@@ -67,7 +75,9 @@ def tool_table_from_dict(data: Mapping[str, object], source: str = "<tool table>
             raise ConfigError(f"{source}: tool.{key} must be a table")
         bad = set(row) - _KEYS
         if bad:
-            raise ConfigError(f"{source}: tool.{key}: unknown key {sorted(bad)[0]!r}; valid: {', '.join(sorted(_KEYS))}")
+            raise ConfigError(
+                f"{source}: tool.{key}: unknown key {sorted(bad)[0]!r}; valid: {', '.join(sorted(_KEYS))}"
+            )
         try:
             table[number] = HhTool(
                 number,
