@@ -189,9 +189,6 @@ class _Expander:
                 where.append(m)
 
         p4_block = sar if self._plane_moving(sar) or sar.plane_programmed else pull(between)
-        if p4_block is sar and not self._plane_moving(sar):
-            # plane axes written but the position does not change: P4 = P0 in the plane
-            pass
         tangent_block = pull(after)
         plane = sar.plane
         t = _start_tangent(tangent_block, plane)
