@@ -19,7 +19,9 @@ from trcopt.kinematics import (
 # ~1e-8 rad of the vector it turns collapses the cone in floating point (documented limitation)
 finite = st.one_of(st.just(0.0), st.floats(1e-3, 1.0), st.floats(-1.0, -1e-3))
 vec = st.tuples(finite, finite, finite).filter(lambda v: np.linalg.norm(v) > 0.2)
-angle = st.floats(-180.0, 180.0, allow_nan=False)
+# angles are 0 or at least 1e-3°: a tilt of ~1e-8 rad next to a parallel axis is below the
+# inverse's conditioning (the same documented limitation)
+angle = st.one_of(st.just(0.0), st.floats(1e-3, 180.0), st.floats(-180.0, -1e-3))
 
 
 def _wrap(x: float) -> float:
