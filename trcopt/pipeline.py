@@ -159,6 +159,12 @@ def plan(
         from .compensation.linuxcnc import compensate_linuxcnc
 
         toolpath = list(compensate_linuxcnc(moves, settings, trc_diags, complete=front_end_ok))
+    elif profile == "heidenhain":
+        from .compensation.profiles import compensate_with_profile, profile_for
+
+        toolpath = list(
+            compensate_with_profile(moves, profile_for("heidenhain"), settings, trc_diags, complete=front_end_ok)
+        )
     else:
         toolpath = list(compensate(moves, settings, trc_diags, complete=front_end_ok))
     diagnostics.extend(trc_diags)

@@ -155,6 +155,7 @@ def compensate_with_profile(
     profile: ControllerProfile,
     settings: TrcSettings | None = None,
     diagnostics: list[Diagnostic] | None = None,
+    complete: bool = True,
 ) -> Iterator[Segment]:
     """:func:`~.engine.compensate` with the profile's settings; diagnostics mapped by the profile.
 
@@ -162,7 +163,7 @@ def compensate_with_profile(
     """
     out = diagnostics if diagnostics is not None else []
     raw: list[Diagnostic] = []
-    for seg in compensate(moves, profile.engine_settings(settings), raw):
+    for seg in compensate(moves, profile.engine_settings(settings), raw, complete=complete):
         while raw:
             mapped = map_diagnostic(profile, raw.pop(0))
             out.append(mapped)
