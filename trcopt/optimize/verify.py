@@ -157,10 +157,16 @@ def _sar_specs(moves: Sequence[Any] | None) -> dict[int, Any]:
     return out
 
 
-def _sar_for(line: int, specs: dict[int, Any]) -> Any:
-    for back in range(0, 4):  # the SAR contour may run in the block after the SAR block (R45)
-        if line - back in specs:
-            return specs[line - back]
+def _sar_for(line: int, specs: dict[int, Any], role: Role | None = None) -> Any:
+    """The SAR words behind a lead segment: retraction in the SAR block itself; the approach
+    contour in the SAR block or (P4 in a later block, R45) in one of the next few blocks."""
+    if line in specs:
+        return specs[line]
+    if role is Role.APPROACH:
+        for back in range(1, 8):
+            sar = specs.get(line - back)
+            if sar is not None:
+                return sar if sar.contour.is_approach else None
     return None
 
 
@@ -211,26 +217,29 @@ def verify_plan(
     notes: list[str] = []
     specs = _sar_specs(moves)
 
-    prog_by_line: dict[int, list[Segment]] = {}
-    for p in programmed:
-        if p.role is Role.CONTOUR and p.geometry.plane_length > 0.0:
-            prog_by_line.setdefault(p.span.line, []).append(p)
-    vertices = np.array(
-        [p.geometry.start[:2] for p in programmed if p.role is Role.CONTOUR] or [[math.inf] * 2]
-    )
-
+    # the part contour: programmed elements of the blocks whose tool-centre path is a compensated
+    # contour (whatever their motion type), plus blocks in between without any tool-centre
+    # segment (omitted by collision detection)
     comp = [
         k
         for k, s in enumerate(toolpath)
         if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)
     ]
-    on_lines = [toolpath[k].span.line for k in comp]
+    on_lines = {toolpath[k].span.line for k in comp}
     lo, hi = (min(on_lines), max(on_lines)) if on_lines else (1, 0)
+    tool_lines = {s.span.line for s in toolpath}
+    part_lines = on_lines | {ln for ln in range(lo, hi + 1) if ln not in tool_lines}
     part = [
         p
         for p in programmed
-        if p.role is Role.CONTOUR and lo <= p.span.line <= hi and p.geometry.plane_length > 0.0
+        if p.span.line in part_lines
+        and p.role in (Role.CONTOUR, Role.RAPID)
+        and p.geometry.plane_length > 0.0
     ]
+    prog_by_line: dict[int, list[Segment]] = {}
+    for p in part:
+        prog_by_line.setdefault(p.span.line, []).append(p)
+    vertices = np.array([p.geometry.start[:2] for p in part] or [[math.inf] * 2])
     boxes = np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4))
 
     # ---- radius (contact) and element direction -------------------------------------------
@@ -259,6 +268,15 @@ def verify_plan(
             fam["tangency"].add(
                 tangency_residual(g.start_tangent(), _programmed_tangent_at(best, p0)), k, seg
             )
+        elif isinstance(g, Line) and seg.role in (Role.APPROACH, Role.RETRACT):
+            # SAR G147/G148: the lead line touching the contour has plane length L = DISR + R
+            sar = _sar_for(seg.span.line, specs, seg.role)
+            nb = toolpath[k + 1] if seg.role is Role.APPROACH and k + 1 < len(toolpath) else None
+            if seg.role is Role.RETRACT and k > 0:
+                nb = toolpath[k - 1]
+            if sar is not None and sar.disr is not None and sar.contour.value in ("G147", "G148"):
+                if nb is not None and nb.role is Role.CONTOUR:
+                    fam["radius"].add(abs(g.plane_length - (sar.disr + R)), k, seg)
         elif isinstance(g, Arc):
             c = np.array(g.center)
             dv = float(np.min(np.hypot(*(vertices - c).T)))
@@ -290,10 +308,11 @@ def verify_plan(
             isinstance(gb, Arc) and b.role in transition and a.role is Role.CONTOUR
         )
         if not required and a.role is Role.APPROACH and b.role is Role.CONTOUR:
-            sar = _sar_for(a.span.line, specs)
-            required = sar is not None  # a SAR lead enters the contour tangentially at P4
+            sar = _sar_for(a.span.line, specs, Role.APPROACH)
+            required = sar is not None and sar.contour.is_approach  # tangent entry at P4
         if not required and b.role is Role.RETRACT and a.role is Role.CONTOUR:
-            required = _sar_for(b.span.line, specs) is not None
+            sar = _sar_for(b.span.line, specs, Role.RETRACT)
+            required = sar is not None and not sar.contour.is_approach
         if not required and a.role is Role.CONTOUR and b.role is Role.CONTOUR:
             pa = [p.geometry for p in prog_by_line.get(a.span.line, [])]
             pb = [p.geometry for p in prog_by_line.get(b.span.line, [])]
@@ -305,24 +324,39 @@ def verify_plan(
         if required:
             fam["tangency"].add(tangency_residual(ga.end_tangent(), gb.start_tangent()), k + 1, b)
 
-    # ---- no reversal of the infeed axis over approach / retraction runs -------------------
+    # ---- no reversal of the infeed axis -----------------------------------------------------
+    # SAR blocks: w1 → w2 → w3 → w4 over the block's sub-movements (and, on approach, the lead
+    # contour executed in the following block), P0 excluded (R42); other leads: each run of
+    # approach (retraction) segments.
+    used: set[int] = set()
+    for line, sar in specs.items():
+        idx = [k for k, sg in enumerate(toolpath) if sg.span.line == line]
+        if not idx:
+            continue
+        if sar.contour.is_approach:
+            j = idx[-1]
+            while j + 1 < len(toolpath) and toolpath[j + 1].role is Role.APPROACH:
+                j += 1
+                idx.append(j)
+            ws = [toolpath[i].geometry.end[2] for i in idx]  # from P1 on
+        else:
+            ws = [toolpath[idx[0]].geometry.start[2]] + [
+                toolpath[i].geometry.end[2] for i in idx[:-1]
+            ]
+        used.update(idx)
+        fam["no_reversal"].add(reversal_residual(ws), idx[0], toolpath[idx[0]])
     k = 0
     while k < len(toolpath):
         role = toolpath[k].role
-        if role not in (Role.APPROACH, Role.RETRACT):
+        if role not in (Role.APPROACH, Role.RETRACT) or k in used:
             k += 1
             continue
         j = k
-        while j + 1 < len(toolpath) and toolpath[j + 1].role is role:
+        while j + 1 < len(toolpath) and toolpath[j + 1].role is role and j + 1 not in used:
             j += 1
         ws = [toolpath[k].geometry.start[2]] + [
             toolpath[i].geometry.end[2] for i in range(k, j + 1)
         ]
-        sar = _sar_for(toolpath[k].span.line, specs)
-        if sar is not None and sar.disrp is not None and role is Role.APPROACH:
-            ws = ws[1:]  # the retraction plane (DISRP) may lie above P0: check from P1 (R42)
-        if sar is not None and sar.disrp is not None and role is Role.RETRACT:
-            ws = ws[:-1]
         fam["no_reversal"].add(reversal_residual(ws), k, toolpath[k])
         k = j + 1
 
@@ -345,7 +379,10 @@ def verify_plan(
             & (boxes[:, 3] >= b[1] - R)
         )[0]
         d = min((element_distance(g, part[i].geometry)[0] for i in near), default=math.inf)
-        lead = seg.role in (Role.APPROACH, Role.RETRACT) and _sar_for(seg.span.line, specs) is None
+        lead = (
+            seg.role in (Role.APPROACH, Role.RETRACT)
+            and _sar_for(seg.span.line, specs, seg.role) is None
+        )
         fam["lead_clearance" if lead else "clearance"].add(max(0.0, R - d), k, seg)
 
     if settings is not None and getattr(settings, "wab_clearance_tolerance_mm", None) is not None:
