@@ -341,12 +341,7 @@ def test_program_end_stops_reading_and_missing_end_warns():
     assert "no end" in w.message and prog.blocks == 1
 
 
-def test_other_dialects_not_implemented():
-    for dialect in ("heidenhain", "rs274"):
-        prog = read_program("L X10 R0 FMAX", dialect=dialect)
-        (err,) = prog.diagnostics
-        assert err.severity is Severity.ERROR and "not implemented yet" in err.message
-        assert prog.moves == () and prog.dialect == dialect
+def test_unknown_dialect_name_is_a_usage_error():
     with pytest.raises(ValueError, match="valid"):
         read_program("", dialect="fanuc")
 

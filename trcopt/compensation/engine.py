@@ -718,7 +718,10 @@ class Compensator:
         if abs(w1 - w0) <= 1e-12:
             return
         geom = Line((p[0], p[1], w0), (p[0], p[1], w1))
-        role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
+        if m.origin in ("approach", "retract"):
+            role = Role(m.origin)
+        else:
+            role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
         yield Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
 
 
