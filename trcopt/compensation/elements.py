@@ -38,7 +38,10 @@ class ElemKind(enum.Enum):
 def make_programmed_geometry(move: Move) -> Line | Arc:
     """The programmed element of a move in plane coordinates (u, v, w)."""
     plane = move.plane
-    start, end = plane.to_uvw(move.start), plane.to_uvw(move.end)
+    if plane is Plane.G17:
+        start, end = move.start, move.end
+    else:
+        start, end = plane.to_uvw(move.start), plane.to_uvw(move.end)
     if move.kind is MoveKind.ARC and move.center is not None:
         c = plane.to_uvw(move.center)
         arc = Arc.from_points(start, end, (c[0], c[1]), bool(move.ccw))
@@ -147,12 +150,20 @@ class Piece:
     def start_point(self) -> Vec2:
         if self.p0 is not None:
             return self.p0
-        return _point2(self.start_carrier(), self.lam0)
+        carrier = self.start_carrier()
+        if self.lam0 == 0.0 and not isinstance(carrier, Poly):
+            p = carrier.start
+            return (p[0], p[1])
+        return _point2(carrier, self.lam0)
 
     def end_point(self) -> Vec2:
         if self.p1 is not None:
             return self.p1
-        return _point2(self.end_carrier(), self.lam1)
+        carrier = self.end_carrier()
+        if self.lam1 == 1.0 and isinstance(carrier, Line):
+            p = carrier.end
+            return (p[0], p[1])
+        return _point2(carrier, self.lam1)
 
     def hits(self, other: Geometry, use_end: bool = True, lo: float | None = None) -> list[Hit]:
         """Intersections with ``other`` that lie on this piece (λ within its range)."""

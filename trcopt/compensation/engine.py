@@ -51,21 +51,9 @@ def compensate(
 class _Peekable:
     def __init__(self, it: Iterator[Move]) -> None:
         self._it = it
-        self._head: list[Move] = []
-
-    def peek(self) -> Move | None:
-        if not self._head:
-            try:
-                self._head.append(next(self._it))
-            except StopIteration:
-                return None
-        return self._head[0]
 
     def next(self) -> Move | None:
-        m = self.peek()
-        if m is not None:
-            self._head.pop()
-        return m
+        return next(self._it, None)
 
 
 class _Window:
@@ -293,19 +281,18 @@ class Compensator:
                     if join.end is not None:
                         self._trim_end(chain, join.end)
                     chain.extend(join.trailing)
-                    col = self._collision(win, i, chain, join.j)
+                    col = self._collision(win, i, chain, join.j) if a.comp.collision is CollisionMode.CDON else None
                     if col is not None:
                         j2, end, next_chain = col
                         self._trim_end(chain, end)
                         join = _Join(j2, next_chain, omitted=list(range(i + 1, j2)))
                     self._check_reversal(a, chain)
-                    omitted = [win.get(k) for k in join.omitted]
+                    omitted = [o for o in (win.get(k) for k in join.omitted) if o is not None] if join.omitted else []
                     for o in omitted:
-                        assert o is not None
                         self._omit_warning(o)
                     if pending is not None:
                         yield from self._emit(*pending)
-                    pending = (a, chain, [o for o in omitted if o is not None])
+                    pending = (a, chain, omitted)
                 i = join.j
                 chain = join.next_chain
                 win.drop_below(i - 1)
@@ -332,6 +319,8 @@ class Compensator:
 
     def _check_reversal(self, a: Elem, chain: list[Piece]) -> None:
         """R28: an element whose remaining offset runs against its programmed direction."""
+        if a.kind is not ElemKind.CONTOUR:
+            return
         for p in chain:
             if p.main and p.lam1 < p.lam0 - LAM_TOL and a.kind is ElemKind.CONTOUR:
                 if self.settings.strict:
