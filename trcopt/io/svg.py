@@ -256,8 +256,7 @@ def render_svg(
         a(f'<g class="tool" fill="none" stroke="{TOOL_COLOUR}" stroke-opacity="0.25">')
         for (u, v), r in tools:
             a(
-                f'<circle cx="{_n(u)}" cy="{_n(-v)}" r="{_n(r)}" stroke-width="1" '
-                'vector-effect="non-scaling-stroke"/>'
+                f'<circle cx="{_n(u)}" cy="{_n(-v)}" r="{_n(r)}" stroke-width="{_n(mm_per_px)}"/>'
             )
         a("</g>")
 
@@ -266,7 +265,7 @@ def render_svg(
         block = f" data-block={quoteattr(seg.span.block)}" if seg.span.block else ""
         return (
             f'<path class="seg {cls}" d="{_path_d(proj, seg)}" fill="none" stroke="{colour}" '
-            f'stroke-width="{_n(width_px_)}" vector-effect="non-scaling-stroke"{dash} '
+            f'stroke-width="{_n(width_px_ * mm_per_px)}"{dash} '
             f'data-role="{seg.role.value}" data-line="{seg.span.line}"{block}/>'
         )
 
@@ -283,13 +282,20 @@ def render_svg(
     if marks:
         r_mark = 5.0 * mm_per_px
         a(f'<g class="markers" fill="{MARKER_COLOUR}" stroke="{MARKER_COLOUR}">')
+        placed: list[tuple[float, float]] = []
+        line_h = 13 * mm_per_px
         for (u, v), label in marks:
             a(
                 f'<circle cx="{_n(u)}" cy="{_n(-v)}" r="{_n(r_mark)}" fill-opacity="0.5">'
                 f"<title>{escape(label)}</title></circle>"
             )
+            # labels of nearby markers are stacked instead of drawn over each other
+            tx, ty = u + 1.5 * r_mark, -v - 1.5 * r_mark
+            while any(abs(ty - py) < line_h and abs(tx - px) < 160 * mm_per_px for px, py in placed):
+                ty -= line_h
+            placed.append((tx, ty))
             a(
-                f'<text x="{_n(u + 1.5 * r_mark)}" y="{_n(-v - 1.5 * r_mark)}" stroke="none" '
+                f'<text x="{_n(tx)}" y="{_n(ty)}" stroke="none" '
                 f'font-size="{_n(11 * mm_per_px)}">{escape(label)}</text>'
             )
         a("</g>")
