@@ -271,6 +271,10 @@ def read_program(
         from .dialects.heidenhain import read_heidenhain
 
         return read_heidenhain(text, file=file, tolerances=options.tolerances)
+    if name == "rs274":
+        from .dialects.rs274 import read_rs274
+
+        return read_rs274(text, file=file, tools=options.tools)  # type: ignore[arg-type]
     diag = Diagnostic(
         Severity.ERROR,
         "NC-DIALECT",
