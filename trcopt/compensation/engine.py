@@ -566,15 +566,10 @@ class Compensator:
             if strategy is ApproachStrategy.G460:
                 return None
             aux = _auxiliary(strategy, e_pt, b.off_end.point2(1.0), b.end_tangent(), b.r1)
-            best: tuple[float, int, float, Vec2] | None = None
-            for k, piece in enumerate(chain):
-                lo, hi = min(piece.lam0, piece.lam1), max(piece.lam0, piece.lam1)
-                for h in intersections(aux, piece.end_carrier(), 1e-9):
-                    if h.lam_a > 1e-9 and lo - LAM_TOL <= h.lam_b <= hi + LAM_TOL and (best is None or h.lam_a < best[0]):
-                        best = (h.lam_a, k, h.lam_b, h.point)
-            if best is None:
+            met = _walk_first(aux, chain, use_end=True)
+            if met is None:
                 return None
-            _, k, lam, point = best
+            k, lam, point = met
             return _Join(i + 2, [Piece(r, Role.RETRACT, 0.0, 1.0, p0=point)], end=(k, lam), omitted=[i + 1])
         return None
 
@@ -729,17 +724,25 @@ def _auxiliary(strategy: ApproachStrategy, center: Vec2, start: Vec2, direction:
     return Arc(center, vec.norm(radial), math.atan2(radial[1], radial[0]), sweep)
 
 
-def _walk_hit(aux: Line | Arc, full: list[Piece]) -> tuple[Vec2, list[Piece]] | None:
-    """First point met walking along ``aux`` that lies on the chain ``full``; the rest of it."""
+def _walk_first(aux: Line | Arc, pieces: list[Piece], use_end: bool) -> tuple[int, float, Vec2] | None:
+    """First point met walking along ``aux`` that lies on one of ``pieces``: (piece index, λ on
+    that piece, point)."""
     best: tuple[float, int, float, Vec2] | None = None
-    for m, q in enumerate(full):
+    for m, q in enumerate(pieces):
         lo, hi = min(q.lam0, q.lam1), max(q.lam0, q.lam1)
-        for h in intersections(aux, q.start_carrier(), 1e-9):
+        carrier = q.end_carrier() if use_end else q.start_carrier()
+        for h in intersections(aux, carrier, 1e-9):
             if h.lam_a > 1e-9 and lo - LAM_TOL <= h.lam_b <= hi + LAM_TOL and (best is None or h.lam_a < best[0]):
                 best = (h.lam_a, m, h.lam_b, h.point)
-    if best is None:
+    return None if best is None else (best[1], best[2], best[3])
+
+
+def _walk_hit(aux: Line | Arc, full: list[Piece]) -> tuple[Vec2, list[Piece]] | None:
+    """First point met walking along ``aux`` on the chain ``full``, and the rest of the chain."""
+    met = _walk_first(aux, full, use_end=False)
+    if met is None:
         return None
-    _, m, lam_b, point = best
+    m, lam_b, point = met
     rest = full[m:]
     rest[0] = _restart(rest[0], lam_b)
     return point, rest
