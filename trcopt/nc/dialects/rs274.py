@@ -180,7 +180,6 @@ class Rs274Reader:
                 values[letter] = value
         actions: list[str] = []
         motion: MoveKind | None = None
-    ccw: bool = False  # sense of the modal arc motion (G3)
         arc_ccw: bool | None = None
         comp_g: float | None = None
         ended = False
@@ -240,9 +239,10 @@ class Rs274Reader:
             side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed
         )
         axes = [letter for letter in "XYZ" if letter in values]
-        if not axes:
-            if motion is not None and motion is MoveKind.ARC:
-                raise _Stop("NC-SYNTAX", "G2/G3 without end point")
+        full_circle = motion is MoveKind.ARC and any(k in values for k in "IJKR")
+        if not axes and not full_circle:
+            if motion is MoveKind.ARC:
+                raise _Stop("NC-SYNTAX", "G2/G3 without end point or centre")
             moves.append(Move(MoveKind.NONE, st.pos, st.pos, st.plane, span, comp, st.feed_mm_s, actions=tuple(actions)))
             return ended
         if st.motion is None:

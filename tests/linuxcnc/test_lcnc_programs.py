@@ -1,0 +1,79 @@
+"""Upstream LinuxCNC programs that need only the supported rs274 subset, run through
+``trcopt plan --dialect rs274``, against LinuxCNC's own output (``expected.segments.json``), and
+the two error programs of ``interp-bad-ccomp``."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+from trcopt.pipeline import PlanOptions, plan_file
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_lcnc_pairs import PEER, TOL, segment_deviation  # noqa: E402
+
+needs_peer = pytest.mark.skipif(not PEER.is_dir(), reason=f"LinuxCNC peer data not found at {PEER.resolve()}")
+
+# programs within the subset; the others use O-words, parameters, expressions or G92
+# (ccomp-mill-g90g91g92, interp-inside-corners, interp-crazy-paths, interp-inverse-time-with-comp,
+# interp-cam-nisley) or lathe tool orientation (ccomp-lathe-comp)
+SUBSET = ["ccomp-mill-line-arc-entry/test.ngc", "ccomp-mill-zchanges/test.ngc"]
+OUTSIDE_SUBSET = {
+    "ccomp-mill-g90g91g92/test.ngc": "NC-UNSUPPORTED",
+    "interp-inside-corners/test.ngc": "NC-UNSUPPORTED",
+    "interp-cam-nisley/cam.ngc": "NC-UNSUPPORTED",
+    "interp-crazy-paths/test.ngc": "NC-UNSUPPORTED",
+}
+
+
+def _units_mm(expected: list[dict]) -> float:
+    return 25.4 if any(s.get("units") == "inch" for s in expected) else 1.0
+
+
+@needs_peer
+@pytest.mark.parametrize("program", SUBSET)
+def test_upstream_program_matches_linuxcnc(program: str) -> None:
+    path = PEER / program
+    expected = json.loads((path.parent / "expected.segments.json").read_text())
+    result = plan_file(path, PlanOptions(dialect="rs274", timing=False))
+    assert result.ok, [d.format() for d in result.errors]
+    assert result.extra["profile"] == "linuxcnc"
+    k = _units_mm(expected)
+    ours = result.toolpath
+    assert len(ours) == len(expected), [(s.kind, s.span.line) for s in ours]
+    for i, (seg, exp) in enumerate(zip(ours, expected, strict=True)):
+        dev = segment_deviation(seg, exp, k)
+        assert dev <= TOL, f"element {i} (canon line {exp['line']}, program line {seg.span.line}): {dev}"
+        assert (seg.kind == "rapid") == (exp["type"] == "rapid"), i
+
+
+@needs_peer
+@pytest.mark.parametrize("program", sorted(OUTSIDE_SUBSET))
+def test_programs_outside_the_subset_stop_with_unsupported(program: str) -> None:
+    result = plan_file(PEER / program, PlanOptions(dialect="rs274", timing=False))
+    assert not result.ok
+    assert result.errors[0].code == OUTSIDE_SUBSET[program]
+    assert "not supported" in result.errors[0].message
+
+
+@needs_peer
+@pytest.mark.parametrize(
+    ("program", "code", "line"),
+    [
+        ("interp-bad-ccomp/ccomp-arcexit.ngc", "LCNC-ARC-AFTER-G40", 7),
+        ("interp-bad-ccomp/ccomp-gouging.ngc", "LCNC-CONCAVE-GOUGE", 7),
+    ],
+)
+def test_bad_ccomp_programs_raise_linuxcnc_errors(program: str, code: str, line: int) -> None:
+    path = PEER / program
+    first = path.read_text().splitlines()[0]
+    assert first.startswith(";")
+    result = plan_file(path, PlanOptions(dialect="rs274", timing=False))
+    assert not result.ok
+    err = result.errors[0]
+    assert err.code == code
+    assert err.message == first[1:].strip()  # LinuxCNC's exact text
+    assert err.span.line == line
