@@ -668,14 +668,22 @@ class Compensator:
     # ------------------------------------------------------------------ emission
     def _emit(self, elem: Elem, chain: list[Piece], omitted: list[Elem]) -> Iterator[Segment]:
         side = Side.LEFT if elem.side > 0 else Side.RIGHT
-        start_pt = chain[0].start_point() if chain else (elem.prog.start[0], elem.prog.start[1])
-        for d in elem.dummies:
-            yield from self._at_point(d, start_pt, side, elem.r0)
+        if elem.dummies:
+            start_pt = chain[0].start_point() if chain else (elem.prog.start[0], elem.prog.start[1])
+            for d in elem.dummies:
+                yield from self._at_point(d, start_pt, side, elem.r0)
         w0, w1 = elem.prog.start[2], elem.prog.end[2]
+        radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
+        if w0 == w1 and not omitted and len(chain) == 1:  # the common 2D case: one piece
+            piece = chain[0]
+            geom = piece.geometry(w0, w0)
+            if geom.plane_length > 1e-12:
+                move = piece.elem.move
+                yield Segment(geom, elem.plane, piece.role, move.span, move.feed_mm_s, side, radius)
+            return
         flat = [p.geometry(w0, w0) for p in chain]
         lengths = [g.plane_length for g in flat]
         total = sum(lengths)
-        radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
         acc = 0.0
         for piece, length, geom in zip(chain, lengths, flat, strict=True):
             wa = w0 + (w1 - w0) * (acc / total if total > 0 else 0.0)
