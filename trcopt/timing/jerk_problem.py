@@ -1,0 +1,374 @@
+"""``JerkProblem``: the jerk-limited path-speed profile of one section as a CasADi/IPOPT NLP.
+
+Model (one section = a tangent-continuous run of segments that starts and ends at rest):
+
+* nodes ``s_0 < … < s_N`` fixed in arc length (mm); every knot between segments is a node, so an
+  interval lies on one segment and the closed-form path derivatives ``q′, q″, q‴`` (per axis, with
+  respect to arc length) are smooth inside it;
+* per node the path speed ``v_i = ṡ`` (mm/s) and path acceleration ``a_i = s̈`` (mm/s²); per
+  interval its duration ``h_i`` (s) and a **constant path jerk** ``j_i = s⃛`` (mm/s³). The interval
+  dynamics are integrated exactly (a triple integrator):
+  ``s_{i+1} − s_i = v_i h + a_i h²/2 + j_i h³/6``, ``v_{i+1} = v_i + a_i h + j_i h²/2``,
+  ``a_{i+1} = a_i + j_i h``. In the notation of TOPP (``x = ṡ²``, ``u = s̈``) the path jerk is
+  ``du/dt = ṡ·du/ds``; integrating in time instead of in ``s`` keeps the start from rest exact
+  (``s ∝ t³``, where any profile linear in ``s`` would never leave rest);
+* per axis k, at both ends of every interval (derivatives taken *inside* the interval, so knots
+  see the one-sided values): ``|q′_k v| ≤ vmax_k``, ``|q′_k a + q″_k v²| ≤ amax_k`` and
+  ``|q‴_k v³ + 3 q″_k v a + q′_k j| ≤ jmax_k``; the programmed feed ``v ≤ F``; on arcs the limits
+  are tightened by ``cos(Δθ/2)`` because the axis projections rotate inside an interval;
+* ``v = a = 0`` at both section ends (tangent discontinuities are passed at rest with zero
+  acceleration, as in the acceleration-limited stage);
+* **curvature jumps** (line↔arc knots, G450 transition circles, arcs of different radius): the
+  axis acceleration ``q″_k v²`` steps by ``Δq″_k·v²`` at the knot. The knot is passed at the speed at
+  which that step is absorbed in one interpolation cycle ``T_c`` of the controller:
+  ``|Δq″_k|·v² ≤ jmax_k·T_c`` for every axis (see :mod:`trcopt.timing.jerk` for the jerk measure);
+* objective: minimise the section time ``Σ h_i``.
+
+The nodes are placed at equal increments of an estimated time (from the acceleration-limited
+profile, capped by the jerk-limited speed from rest ``v = ½J(6d/J)^{2/3}`` near the section ends and
+by the knot speed caps), so intervals are similar in duration; the same estimate warm-starts IPOPT.
+casadi is imported inside :meth:`JerkProblem.build`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import TimingError
+from ..geometry.poly import Poly
+from ..optimize.solution import Solution, SolveStatus
+from .path import PathArrays
+from .sections import Section
+
+__all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
+
+DTHETA_JERK = 0.05  # rad, largest arc angle per interval
+CURVATURE_JUMP_TOL = 1e-9  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
+
+
+def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:
+    """q′, q″, q‴ (xyz, per mm, mm⁻¹, mm⁻²) of segments ``iseg`` at local arc lengths ``s_local``.
+
+    Lines and arcs/helices in closed form; Poly curves from their cubic Hermite pieces (``q‴`` is
+    constant on each piece).
+    """
+    iseg = np.asarray(iseg, dtype=np.int64)
+    s_local = np.asarray(s_local, dtype=float)
+    d1 = arrays.eval(iseg, s_local, 1)
+    d2 = arrays.eval(iseg, s_local, 2)
+    n = s_local.shape[0]
+    uvw = np.zeros((n, 3))
+    m = arrays.kind[iseg] == 1
+    if np.any(m):
+        ii = iseg[m]
+        _, _, r, a0, da, _, _ = arrays.arc[ii].T
+        ang = a0 + s_local[m] * da
+        k = r * da * da * da
+        uvw[m] = np.stack((k * np.sin(ang), -k * np.cos(ang), np.zeros_like(k)), axis=1)
+    d3 = np.empty_like(uvw)
+    d3[np.arange(n)[:, None], arrays.perm[iseg]] = uvw
+    for j in np.nonzero(arrays.kind[iseg] == 2)[0]:
+        seg = arrays.evals[int(iseg[j])].segment
+        d3[j] = np.asarray(seg.plane.to_xyz(_poly_third(seg.geometry, float(s_local[j]))))  # type: ignore[arg-type]
+    return d1, d2, d3
+
+
+def _poly_third(g: Poly, s: float) -> tuple[float, float, float]:
+    i, h, _ = g._locate(s)
+    if h <= 0:
+        return (0.0, 0.0, 0.0)
+    p0, p1, m0, m1 = g.points[i], g.points[i + 1], g.tangents[i], g.tangents[i + 1]
+    out = tuple((12 * a + 6 * h * c - 12 * b + 6 * h * d) / h**3 for a, b, c, d in zip(p0, p1, m0, m1, strict=True))
+    return (out[0], out[1], out[2])
+
+
+@dataclass(frozen=True)
+class SectionProfile:
+    """Solved (or last-iterate) profile of one section; arc lengths are global (mm)."""
+
+    s: np.ndarray  # nodes, mm
+    v: np.ndarray  # path speed at nodes, mm/s
+    a: np.ndarray  # path acceleration at nodes, mm/s²
+    h: np.ndarray  # interval durations, s
+    j: np.ndarray  # constant path jerk per interval, mm/s³
+    iseg: np.ndarray  # segment of every interval
+
+    @property
+    def duration(self) -> float:
+        return float(self.h.sum())
+
+
+class JerkProblem:
+    """Jerk-limited time-optimal profile of one section (inspect ``grid``/``opti`` before ``solve``).
+
+    Parameters
+    ----------
+    section:
+        The section (from :func:`trcopt.timing.sections.split_sections`).
+    arrays:
+        Closed-form evaluator of the whole tool path.
+    feeds:
+        Path-speed limit per segment of the whole path, mm/s.
+    vmax, amax, jmax:
+        Per-axis limits X, Y, Z (mm/s, mm/s², mm/s³).
+    base_s, base_v:
+        The acceleration-limited profile (global arc length mm, path speed mm/s) used to place the
+        nodes and to warm-start IPOPT.
+    cycle_s:
+        Interpolation cycle T_c (s) in which a curvature-jump acceleration step must be absorbed.
+    points:
+        Target number of intervals (before the per-arc minimum of ``|sweep|/DTHETA_JERK``).
+    """
+
+    def __init__(
+        self,
+        section: Section,
+        arrays: PathArrays,
+        feeds: np.ndarray,
+        vmax: np.ndarray,
+        amax: np.ndarray,
+        jmax: np.ndarray,
+        base_s: np.ndarray,
+        base_v: np.ndarray,
+        *,
+        cycle_s: float = 1e-3,
+        points: int | None = None,
+        label: str = "",
+    ) -> None:
+        self.section = section
+        self.arrays = arrays
+        self.feeds = feeds
+        self.vmax, self.amax, self.jmax = vmax, amax, jmax
+        self.cycle_s = cycle_s
+        self.label = label
+        nseg = section.last - section.first + 1
+        self.points = points if points is not None else min(60 + 30 * nseg, 600)
+        self._opti: Any = None
+        self._vars: dict[str, Any] = {}
+        self._build_grid(base_s, base_v)
+
+    # -- grid -------------------------------------------------------------------------------------
+    def _build_grid(self, base_s: np.ndarray, base_v: np.ndarray) -> None:
+        sec, ar = self.section, self.arrays
+        segs = np.arange(sec.first, sec.last + 1)
+        jmin, amin = float(self.jmax.min()), float(self.amax.min())
+        # curvature jumps at interior knots → speed caps (|Δq″_k| v² ≤ jmax_k T_c)
+        knot_s = ar.start[segs[1:]]
+        self.knot_cap = np.full(segs.shape[0] - 1, np.inf)
+        self.knot_dq2 = np.zeros((segs.shape[0] - 1, 3))
+        if segs.shape[0] > 1:
+            left = path_derivatives(ar, segs[:-1], ar.length[segs[:-1]])[1]
+            right = path_derivatives(ar, segs[1:], np.zeros(segs.shape[0] - 1))[1]
+            dq2 = right - left
+            self.knot_dq2 = dq2
+            with np.errstate(divide="ignore"):
+                cap2 = (self.jmax[None, :] * self.cycle_s / np.where(np.abs(dq2) > CURVATURE_JUMP_TOL, np.abs(dq2), 0.0)).min(axis=1)
+            self.knot_cap = np.sqrt(cap2)
+        # estimated speed on a fine sampling of every segment
+        fine_n = 200
+        taus, fines, vcaps = [], [], []
+        for q, k in enumerate(segs):
+            loc = (np.arange(fine_n) + 0.5) / fine_n * ar.length[k]
+            sg = ar.start[k] + loc
+            d1 = ar.eval(np.full(fine_n, k), loc, 1)
+            with np.errstate(divide="ignore"):
+                vel = (self.vmax[None, :] / np.abs(d1)).min(axis=1)
+            v = np.minimum(np.minimum(vel, self.feeds[k]), np.interp(sg, base_s, base_v))
+            d = np.minimum(sg - sec.s_start, sec.s_start + sec.length - sg)
+            v = np.minimum(v, 0.5 * jmin * (6.0 * d / jmin) ** (2.0 / 3.0))
+            for ks, cap in zip(knot_s, self.knot_cap, strict=True):
+                if np.isfinite(cap):
+                    v = np.minimum(v, np.sqrt(cap * cap + 0.5 * amin * np.abs(sg - ks)))
+            v = np.maximum(v, 1e-6 * max(float(self.feeds[k]), 1.0))
+            fines.append(loc)
+            vcaps.append(v)
+            taus.append(ar.length[k] / fine_n / v)
+        tau_seg = np.array([t.sum() for t in taus])
+        total = float(tau_seg.sum())
+        s_nodes, iseg = [np.array([sec.s_start])], []
+        for q, k in enumerate(segs):
+            n_min = 2
+            if ar.kind[k] == 1:
+                sweep = abs(ar.arc[k, 4]) * ar.length[k]
+                n_min = max(n_min, math.ceil(sweep / DTHETA_JERK))
+            elif ar.kind[k] == 2:
+                n_min = max(n_min, math.ceil(ar.length[k] / 0.2))
+            n = max(n_min, round(self.points * tau_seg[q] / total))
+            cum = np.concatenate(([0.0], np.cumsum(taus[q])))
+            sfine = np.concatenate(([0.0], fines[q] + 0.5 * ar.length[k] / fine_n))
+            sfine[-1] = ar.length[k]
+            loc = np.interp(np.linspace(0.0, cum[-1], n + 1), cum, sfine)
+            loc[0], loc[-1] = 0.0, ar.length[k]
+            s_nodes.append(ar.start[k] + loc[1:])
+            iseg.append(np.full(n, k))
+        self.s = np.concatenate(s_nodes)
+        self.iseg = np.concatenate(iseg)
+        self.s[-1] = sec.s_start + sec.length
+        n_int = self.iseg.shape[0]
+        lo = self.s[:-1] - ar.start[self.iseg]
+        hi = self.s[1:] - ar.start[self.iseg]
+        hi = np.minimum(hi, ar.length[self.iseg])
+        self.delta = np.diff(self.s)
+        if np.any(self.delta <= 0):
+            raise TimingError(f"section {sec.index}{self.label}: degenerate jerk grid", code="TIMING-JERK-GRID")
+        self.dl = path_derivatives(ar, self.iseg, lo)
+        self.dr = path_derivatives(ar, self.iseg, hi)
+        rate = np.where(ar.kind[self.iseg] == 1, np.abs(ar.arc[self.iseg, 4]), 0.0)
+        self.tighten = np.cos(0.5 * rate * self.delta)
+        # node speed caps: feed and per-axis velocity on both adjacent intervals, knot caps
+        with np.errstate(divide="ignore"):
+            vl = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dl[0])).min(axis=1)
+            vr = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dr[0])).min(axis=1)
+        f = self.feeds[self.iseg]
+        cap = np.full(n_int + 1, np.inf)
+        cap[:-1] = np.minimum(cap[:-1], np.minimum(vl, f))
+        cap[1:] = np.minimum(cap[1:], np.minimum(vr, f))
+        self.knot_nodes = np.searchsorted(self.s, knot_s)
+        cap[self.knot_nodes] = np.minimum(cap[self.knot_nodes], self.knot_cap)
+        cap[0] = cap[-1] = 0.0
+        self.vcap = cap
+        # warm start: estimated speed at the nodes
+        v0 = np.minimum(np.interp(self.s, np.concatenate([sec_f + ar.start[k] for sec_f, k in zip(fines, segs, strict=True)]),
+                                  np.concatenate(vcaps)), cap)
+        v0[0] = v0[-1] = 0.0
+        self.v_init = 0.95 * v0
+        self.axes_used = np.nonzero((np.abs(self.dl[0]) + np.abs(self.dr[0]) + np.abs(self.dl[1]) + np.abs(self.dr[1])).max(axis=0) > 1e-12)[0]
+
+    @property
+    def intervals(self) -> int:
+        return int(self.iseg.shape[0])
+
+    # -- NLP ------------------------------------------------------------------------------------------
+    def _initial_guess(self) -> dict[str, np.ndarray]:
+        v = self.v_init
+        d = self.delta
+        h = 2.0 * d / np.maximum(v[:-1] + v[1:], 1e-9)
+        t = np.concatenate(([0.0], np.cumsum(h)))
+        a = np.gradient(v, t) if v.shape[0] > 2 else np.zeros_like(v)
+        a[0] = a[-1] = 0.0
+        j = np.diff(a) / h
+        return {"v": v, "a": a, "h": h, "j": j}
+
+    def build(self) -> Any:
+        """Build (once) and return the ``casadi.Opti`` instance."""
+        if self._opti is not None:
+            return self._opti
+        import casadi as ca
+
+        n = self.intervals
+        opti = ca.Opti()
+        guess = self._initial_guess()
+        self.vref = max(float(np.max(self.vcap[np.isfinite(self.vcap)])), 1.0)
+        self.aref = float(self.amax.min())
+        self.jref = float(self.jmax.min())
+        self.href = max(float(guess["h"].sum()) / n, 1e-6)
+        V, A, H, Jp = opti.variable(n + 1), opti.variable(n), opti.variable(n), opti.variable(n)
+        # A holds a_1..a_N-1 and a_N = 0: store n values for a_0..a_{n-1}, a_0 fixed by bound
+        v = self.vref * V
+        a_all = ca.vertcat(self.aref * A, 0)
+        h = self.href * H
+        jj = self.jref * Jp
+        v0, v1 = v[:-1], v[1:]
+        a0, a1 = a_all[:-1], a_all[1:]
+        dm = ca.DM(self.delta)
+        opti.subject_to((v0 * h + a0 * h**2 / 2 + jj * h**3 / 6) / dm == 1)
+        opti.subject_to((v0 + a0 * h + jj * h**2 / 2 - v1) / self.vref == 0)
+        opti.subject_to((a0 + jj * h - a1) / self.aref == 0)
+        cap = np.where(np.isfinite(self.vcap), self.vcap, 1e6) / self.vref
+        opti.subject_to(opti.bounded(0, V, ca.DM(cap)))
+        opti.subject_to(A[0] == 0)
+        opti.subject_to(H >= 1e-9)
+        for k in self.axes_used:
+            lim_a = ca.DM(self.tighten)
+            for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
+                acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
+                jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
+                opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
+                opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
+        opti.minimize(ca.sum1(H) / n)
+        opti.set_initial(V, guess["v"] / self.vref)
+        opti.set_initial(A, guess["a"][:-1] / self.aref)
+        opti.set_initial(H, guess["h"] / self.href)
+        opti.set_initial(Jp, guess["j"] / self.jref)
+        opti.solver(
+            "ipopt",
+            {"expand": True, "print_time": False, "error_on_fail": False},
+            {"print_level": 0, "sb": "yes", "tol": 1e-9, "acceptable_tol": 1e-6, "max_iter": 3000,
+             "mu_strategy": "adaptive"},
+        )
+        self._opti = opti
+        self._vars = {"V": V, "A": A, "H": H, "J": Jp}
+        return opti
+
+    @property
+    def opti(self) -> Any:
+        return self.build()
+
+    @property
+    def variables(self) -> dict[str, Any]:
+        """Scaled decision variables: V = v/vref, A = a/aref, H = h/href, J = j/jref."""
+        self.build()
+        return dict(self._vars)
+
+    def solve(self) -> Solution[SectionProfile]:
+        """Solve with IPOPT (silent). Returns a :class:`~trcopt.optimize.solution.Solution`."""
+        opti = self.build()
+        t0 = time.perf_counter()
+        try:
+            sol = opti.solve()
+            val = sol.value
+            stats = sol.stats()
+        except RuntimeError as exc:  # casadi raises on some failures even with error_on_fail False
+            val = opti.debug.value
+            stats = {"return_status": str(exc), "iter_count": -1}
+        wall = time.perf_counter() - t0
+        V, A, H, Jp = (np.atleast_1d(np.asarray(val(self._vars[k]), dtype=float)).ravel() for k in ("V", "A", "H", "J"))
+        prof = SectionProfile(
+            self.s.copy(), np.maximum(V * self.vref, 0.0), np.append(A * self.aref, 0.0), H * self.href, Jp * self.jref,
+            self.iseg.copy(),
+        )
+        viol = self.violations(prof)
+        status_text = str(stats.get("return_status", ""))
+        converged = status_text in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+        ok = converged and viol["dynamics_mm"] < 1e-6 and max(viol["velocity"], viol["acceleration"], viol["jerk"]) < 1e-4
+        status = SolveStatus.OPTIMAL if ok else (
+            SolveStatus.INFEASIBLE if "Infeasible" in status_text else SolveStatus.FAILED
+        )
+        return Solution(status, prof.duration, int(stats.get("iter_count", -1)), wall, prof, viol, status_text)
+
+    def violations(self, p: SectionProfile) -> dict[str, float]:
+        """Largest violation per constraint group (relative to the limit; dynamics in mm)."""
+        v0, v1, a0, a1, h, j = p.v[:-1], p.v[1:], p.a[:-1], p.a[1:], p.h, p.j
+        ds = v0 * h + a0 * h**2 / 2 + j * h**3 / 6 - self.delta
+        dv = v0 + a0 * h + j * h**2 / 2 - v1
+        dyn = max(float(np.abs(ds).max()), float(np.abs(dv).max()) * float(h.max()))
+        cap = np.where(np.isfinite(self.vcap), self.vcap, np.inf)
+        vel = float(np.max(np.maximum(p.v - cap, 0.0) / np.maximum(cap, 1.0)))
+        acc = jer = 0.0
+        for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
+            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (self.amax[None, :] * self.tighten[:, None])
+            Jx = np.abs(d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]) / (
+                self.jmax[None, :] * self.tighten[:, None]
+            )
+            acc = max(acc, float(A.max()) - 1.0)
+            jer = max(jer, float(Jx.max()) - 1.0)
+        return {
+            "dynamics_mm": dyn,
+            "velocity": vel,
+            "acceleration": max(acc, 0.0),
+            "jerk": max(jer, 0.0),
+            "negative_time": float(max(-h.min(), 0.0)),
+        }
+
+
+def section_label(segments: Sequence[Any], section: Section) -> str:
+    """``blocks N10–N40`` for messages."""
+    a = segments[section.first].span.block_label()
+    b = segments[section.last].span.block_label()
+    return f"block {a}" if a == b else f"blocks {a}–{b}"
