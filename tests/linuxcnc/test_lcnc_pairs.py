@@ -65,18 +65,38 @@ def pair_moves(pair: dict, collision: CollisionMode = CollisionMode.CDOF) -> lis
     for part in ("pre", "entry", "contour", "exit", "post"):
         for n, s in enumerate(prog[part]):
             if part in ("entry", "contour"):
-                comp = CompState(side, radius, True, collision=collision, side_programmed=(part == "entry"))
+                comp = CompState(
+                    side, radius, True, collision=collision, side_programmed=(part == "entry")
+                )
             else:
-                comp = CompState(Side.OFF, 0.0, True, collision=collision, side_programmed=(part == "exit"))
+                comp = CompState(
+                    Side.OFF, 0.0, True, collision=collision, side_programmed=(part == "exit")
+                )
             start, end = _xyz(s["start"], s["start"], k), _xyz(s["end"], s["end"], k)
             span = SourceSpan("pair", int(s["line"]), 1)
             if s["type"] == "arc":
                 rot = int(s["rotation"])
-                moves.append(Move(MoveKind.ARC, start, end, plane, span, comp, 1.0,
-                                  center=_xyz(s["center"], s["start"], k), ccw=rot > 0, turns=abs(rot) - 1))
+                moves.append(
+                    Move(
+                        MoveKind.ARC,
+                        start,
+                        end,
+                        plane,
+                        span,
+                        comp,
+                        1.0,
+                        center=_xyz(s["center"], s["start"], k),
+                        ccw=rot > 0,
+                        turns=abs(rot) - 1,
+                    )
+                )
             else:
                 kind = MoveKind.RAPID if s["type"] == "rapid" else MoveKind.LINE
-                moves.append(Move(kind, start, end, plane, span, comp, None if kind is MoveKind.RAPID else 1.0))
+                moves.append(
+                    Move(
+                        kind, start, end, plane, span, comp, None if kind is MoveKind.RAPID else 1.0
+                    )
+                )
     return moves
 
 
@@ -98,7 +118,11 @@ def segment_deviation(seg: Segment, exp: dict, k: float) -> float:
         g = seg.geometry
         rot = int(exp["rotation"])
         turns = math.floor(abs(g.sweep) / (2 * math.pi) + 1e-9)  # type: ignore[union-attr]
-        if (g.sweep > 0) != (rot > 0) or turns != abs(rot) - 1 and abs(abs(g.sweep) - 2 * math.pi * turns) > 1e-6:  # type: ignore[union-attr]
+        if (
+            (g.sweep > 0) != (rot > 0)
+            or turns != abs(rot) - 1
+            and abs(abs(g.sweep) - 2 * math.pi * turns) > 1e-6
+        ):  # type: ignore[union-attr]
             return math.inf
         c = seg.center_xyz
         assert c is not None
@@ -158,7 +182,9 @@ def test_siemens_cdon_does_not_gouge_where_linuxcnc_does(index: int) -> None:
     pair = load_pairs()[index]
     key = (pair["source"].split("/")[-2], pair["group"])
     if key in _SIEMENS_SLIVER:
-        pytest.xfail("Siemens CDON keeps two nearly concentric arcs whose gap is thinner than the tool")
+        pytest.xfail(
+            "Siemens CDON keeps two nearly concentric arcs whose gap is thinner than the tool"
+        )
     moves = pair_moves(pair, CollisionMode.CDON)
     diags: list = []
     toolpath = list(compensate(moves, None, diags))
@@ -185,5 +211,7 @@ def test_pair_summary() -> None:
     results = [(p, compare_pair(p)) for p in load_pairs() if p["clearance_ok"]]
     matched = [w for _, (w, _) in results if w <= TOL]
     worst = max(w for _, (w, _) in results)
-    print(f"\nLinuxCNC pairs matched: {len(matched)}/{len(results)}, worst deviation {worst:.3g} program units")
+    print(
+        f"\nLinuxCNC pairs matched: {len(matched)}/{len(results)}, worst deviation {worst:.3g} program units"
+    )
     assert len(matched) == len(results) == 52

@@ -15,7 +15,9 @@ from trcopt.pipeline import PlanOptions, plan_file
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_lcnc_pairs import PEER, TOL, segment_deviation  # noqa: E402
 
-needs_peer = pytest.mark.skipif(not PEER.is_dir(), reason=f"LinuxCNC peer data not found at {PEER.resolve()}")
+needs_peer = pytest.mark.skipif(
+    not PEER.is_dir(), reason=f"LinuxCNC peer data not found at {PEER.resolve()}"
+)
 
 # programs within the subset; the others use O-words, parameters, expressions or G92
 # (ccomp-mill-g90g91g92, interp-inside-corners, interp-crazy-paths, interp-inverse-time-with-comp,
@@ -46,7 +48,9 @@ def test_upstream_program_matches_linuxcnc(program: str) -> None:
     assert len(ours) == len(expected), [(s.kind, s.span.line) for s in ours]
     for i, (seg, exp) in enumerate(zip(ours, expected, strict=True)):
         dev = segment_deviation(seg, exp, k)
-        assert dev <= TOL, f"element {i} (canon line {exp['line']}, program line {seg.span.line}): {dev}"
+        assert dev <= TOL, (
+            f"element {i} (canon line {exp['line']}, program line {seg.span.line}): {dev}"
+        )
         assert (seg.kind == "rapid") == (exp["type"] == "rapid"), i
 
 

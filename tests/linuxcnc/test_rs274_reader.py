@@ -73,7 +73,9 @@ def test_arc_radius_mismatch_is_an_error() -> None:
 def test_tool_table_d_word_and_g41_1_diameter(tmp_path) -> None:  # type: ignore[no-untyped-def]
     (tmp_path / "p.tbl").write_text(TBL)
     src = tmp_path / "p.ngc"
-    src.write_text("G21 F100\nT1 M6\nG41 G1 X20 Y0\nG1 X40\nG40 G1 X50\nG42.1 D4 G1 X60 Y-20\nG40 G1 X70\nM2\n")
+    src.write_text(
+        "G21 F100\nT1 M6\nG41 G1 X20 Y0\nG1 X40\nG40 G1 X50\nG42.1 D4 G1 X60 Y-20\nG40 G1 X70\nM2\n"
+    )
     prog = read_program(src, dialect="rs274")
     comps = [m.comp for m in prog.moves if m.kind is MoveKind.LINE]
     assert comps[0].side is Side.LEFT and comps[0].radius == pytest.approx(3.175)  # T1, inch table
@@ -107,7 +109,11 @@ def test_inside_corners_are_trimmed_to_the_intersection() -> None:
     r = _plan(_square())  # G41 on a CCW square: every corner is inside
     assert r.ok
     contour = [s for s in r.toolpath if s.role.value == "contour"]
-    assert [s.end_xyz[:2] for s in contour[:3]] == [pytest.approx((35.0, 5.0)), pytest.approx((35.0, 25.0)), pytest.approx((5.0, 25.0))]
+    assert [s.end_xyz[:2] for s in contour[:3]] == [
+        pytest.approx((35.0, 5.0)),
+        pytest.approx((35.0, 25.0)),
+        pytest.approx((5.0, 25.0)),
+    ]
     assert not [s for s in r.toolpath if s.role.value == "corner"]
 
 
@@ -124,7 +130,10 @@ def test_negative_diameter_swaps_the_side() -> None:
         ("G21 F100\nG41.1 D10 G1 X20\nG41.1 D10 X30\nM2\n", "LCNC-COMP-ALREADY-ON"),
         ("G21 F100\nG41.1 D10 G1 X20\nG19 X30\nM2\n", "LCNC-YZ-PLANE"),
         ("G21 F100\nG19 G41.1 D10 G1 Y20\nM2\n", "LCNC-YZ-PLANE"),
-        ("G21 F100\nG41.1 D10 G1 X20\nG3 X30 Y10 J10\nG3 X34 Y10 I2\nG40 G1 X40\nM2\n", "LCNC-ARC-TOO-SMALL"),
+        (
+            "G21 F100\nG41.1 D10 G1 X20\nG3 X30 Y10 J10\nG3 X34 Y10 I2\nG40 G1 X40\nM2\n",
+            "LCNC-ARC-TOO-SMALL",
+        ),
     ],
 )
 def test_linuxcnc_errors(text: str, code: str) -> None:
@@ -162,7 +171,9 @@ def test_written_gcode_is_valid_rs274(variant: str) -> None:
     assert check_gcode_arcs(gcode) == []
     assert "G41" not in gcode and "G42" not in gcode
     again = read_program(gcode, dialect="rs274")
-    assert not [d for d in again.diagnostics if d.severity is Severity.ERROR], [d.format() for d in again.diagnostics]
+    assert not [d for d in again.diagnostics if d.severity is Severity.ERROR], [
+        d.format() for d in again.diagnostics
+    ]
     moved = [m for m in again.moves if m.kind is not MoveKind.NONE]
     assert moved[-1].end == pytest.approx(r.toolpath[-1].end_xyz, abs=1e-4)
     # the re-read plain program runs through the pipeline unchanged (compensation off)

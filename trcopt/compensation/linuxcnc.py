@@ -137,7 +137,9 @@ def _turn_of(m: Move) -> int:
 
 
 class _LinuxCncCompensator:
-    def __init__(self, settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool) -> None:
+    def __init__(
+        self, settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool
+    ) -> None:
         self.settings = settings
         self.diags = diagnostics
         self.complete = complete
@@ -161,13 +163,13 @@ class _LinuxCncCompensator:
             assert q.center is not None
             c = q.center
             rad = math.hypot(q.end[0] - c[0], q.end[1] - c[1])
-            sweep = find_turn(q.start[:2], c, q.turn, q.end[:2])  # type: ignore[arg-type]
+            sweep = find_turn(q.start[:2], c, q.turn, q.end[:2])
             if rad <= 0.0:
                 geom: Line | Arc = Line(q.start, q.end)
                 if geom.length <= 1e-12:
                     return None
             else:
-                geom = Arc(c, rad, _angle(c, q.start[:2]), sweep, q.start[2], q.end[2])  # type: ignore[arg-type]
+                geom = Arc(c, rad, _angle(c, q.start[:2]), sweep, q.start[2], q.end[2])
             return Segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
         line = Line(q.start, q.end)
         if line.length <= 1e-12:
@@ -196,7 +198,11 @@ class _LinuxCncCompensator:
             else:
                 new = (p[0] - self.endpoint[0], p[1] - self.endpoint[1])
                 if q.prog_dir[0] * new[0] + q.prog_dir[1] * new[1] < 0.0:
-                    code = "LCNC-CONCAVE-GOUGE-TRAVERSE" if q.move.feed_mm_s is None else "LCNC-CONCAVE-GOUGE"
+                    code = (
+                        "LCNC-CONCAVE-GOUGE-TRAVERSE"
+                        if q.move.feed_mm_s is None
+                        else "LCNC-CONCAVE-GOUGE"
+                    )
                     raise _Stop(code, span)
             q.end = (p[0], p[1], q.end[2])
             if k > 0:
@@ -250,7 +256,10 @@ class _LinuxCncCompensator:
         if not self.on:
             yield from self._uncompensated(m, start, end)
         elif self.first:
-            if m.kind is not MoveKind.ARC and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0:
+            if (
+                m.kind is not MoveKind.ARC
+                and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0
+            ):
                 yield from self._uncompensated(m, start, end, keep_exit=True)
             elif m.kind is MoveKind.ARC:
                 self._entry_arc(m, end)
@@ -262,7 +271,9 @@ class _LinuxCncCompensator:
             yield from self._straight(m, end)
 
     # -- compensation off -------------------------------------------------------------------
-    def _uncompensated(self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False) -> Iterator[Segment]:
+    def _uncompensated(
+        self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False
+    ) -> Iterator[Segment]:
         assert self.cur is not None
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.CONTOUR
         if self.exit_pending and not keep_exit:
@@ -288,9 +299,9 @@ class _LinuxCncCompensator:
         p = end[:2]
         if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.r:
             raise _Stop("LCNC-ENTRY-TOO-SHORT", m.span)
-        alpha = _angle(c, p) + self.side * HALF_PI  # type: ignore[arg-type]
-        e = _at(p, self.r, alpha)  # type: ignore[arg-type]
-        self.endpoint = c  # type: ignore[assignment]
+        alpha = _angle(c, p) + self.side * HALF_PI
+        e = _at(p, self.r, alpha)
+        self.endpoint = c
         self.queue.append(_Queued(self.cur, (e[0], e[1], end[2]), m, Role.APPROACH))
         self.first = False
         self.cur, self.prog = (e[0], e[1], end[2]), end
@@ -304,23 +315,31 @@ class _LinuxCncCompensator:
         center = plane_center(m)
         turn = _turn_of(m)
         if _tool_inside_arc(self.side, turn):
-            gamma = _angle(p, center)  # type: ignore[arg-type]
+            gamma = _angle(p, center)
         else:
-            gamma = _angle(center, p)  # type: ignore[arg-type]
-        e = _at(p, self.r, gamma)  # type: ignore[arg-type]
+            gamma = _angle(center, p)
+        e = _at(p, self.r, gamma)
         # the compensated arc runs from the current point to e; its centre lies on the line from
         # e through the programmed centre, equidistant from both ends
         ab = _angle(e, center)
         b_len = math.hypot(c[0] - e[0], c[1] - e[1]) / 2.0
-        a_ang = _angle(e, c) - ab  # type: ignore[arg-type]
+        a_ang = _angle(e, c) - ab
         if abs(math.cos(a_ang)) < 1e-9:
             raise _Stop("LCNC-ARC-TOO-SMALL", m.span)
         c_len = b_len / math.cos(a_ang)
         new_center = _at(e, c_len, ab)
-        sweep = find_turn(c, new_center, turn, e)  # type: ignore[arg-type]
-        self.endpoint = c  # type: ignore[assignment]
+        sweep = find_turn(c, new_center, turn, e)
+        self.endpoint = c
         self.queue.append(
-            _Queued(self.cur, (e[0], e[1], end[2]), m, Role.APPROACH, center=new_center, turn=turn, prog_sweep=sweep)
+            _Queued(
+                self.cur,
+                (e[0], e[1], end[2]),
+                m,
+                Role.APPROACH,
+                center=new_center,
+                turn=turn,
+                prog_sweep=sweep,
+            )
         )
         self.first = False
         self.cur, self.prog = (e[0], e[1], end[2]), end
@@ -337,8 +356,8 @@ class _LinuxCncCompensator:
             self.queue.append(_Queued(self.cur, (c[0], c[1], end[2]), m, Role.CONTOUR))
             self.cur, self.prog = (c[0], c[1], end[2]), end
             return
-        theta = _angle(op, c)  # type: ignore[arg-type]
-        alpha = _angle(op, p)  # type: ignore[arg-type]
+        theta = _angle(op, c)
+        alpha = _angle(op, p)
         if side > 0:
             if theta < alpha:
                 theta += TWO_PI
@@ -349,8 +368,8 @@ class _LinuxCncCompensator:
                 alpha += TWO_PI
             beta = alpha - theta - HALF_PI
             gamma = -HALF_PI
-        e = _at(p, r, alpha + gamma)  # type: ignore[arg-type]
-        mid = _at(op, r, alpha + gamma)  # type: ignore[arg-type]
+        e = _at(p, r, alpha + gamma)
+        mid = _at(op, r, alpha + gamma)
         front = self._front()
         concave = beta < -small or beta > math.pi + small
         if not concave and beta > math.pi - small and front is not None and front.is_arc:
@@ -361,7 +380,9 @@ class _LinuxCncCompensator:
             if rapid:
                 corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER)
             else:
-                corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)  # type: ignore[arg-type]
+                corner = _Queued(
+                    self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side
+                )
             seg = self._segment(corner)
             if seg is not None:
                 yield seg
@@ -371,17 +392,19 @@ class _LinuxCncCompensator:
             if front is None or not front.is_arc:
                 halfcorner = (beta + math.pi) / 2.0
                 retreat = r / math.tan(halfcorner) if math.tan(halfcorner) != 0.0 else 0.0
-                mid = _at(c, retreat, theta + gamma)  # type: ignore[arg-type]
+                mid = _at(c, retreat, theta + gamma)
             else:
-                mid = self._arc_line_corner(front, op, p, m.span)  # type: ignore[arg-type]
+                mid = self._arc_line_corner(front, op, p, m.span)
             yield from self._move_endpoint_and_flush(mid, m.span)
             start = (mid[0], mid[1], cz)
         else:  # near-tangent: continue from where the tool is
             yield from self._flush()
-            self.endpoint = c  # type: ignore[assignment]
+            self.endpoint = c
             start = self.cur
         self.queue.append(
-            _Queued(start, (e[0], e[1], end[2]), m, Role.CONTOUR, prog_dir=(p[0] - op[0], p[1] - op[1]))
+            _Queued(
+                start, (e[0], e[1], end[2]), m, Role.CONTOUR, prog_dir=(p[0] - op[0], p[1] - op[1])
+            )
         )
         self.cur, self.prog = (e[0], e[1], end[2]), end
 
@@ -417,8 +440,8 @@ class _LinuxCncCompensator:
         center = plane_center(m)
         turn = _turn_of(m)
         arc_radius = math.hypot(center[0] - p[0], center[1] - p[1])
-        theta = _angle(op, c) + (-HALF_PI if side > 0 else HALF_PI)  # type: ignore[arg-type]
-        delta = _angle(op, center)  # type: ignore[arg-type]
+        theta = _angle(op, c) + (-HALF_PI if side > 0 else HALF_PI)
+        delta = _angle(op, center)
         alpha = delta - HALF_PI if turn > 0 else delta + HALF_PI
         beta = theta - alpha if side > 0 else alpha - theta
         if beta > 1.5 * math.pi:
@@ -427,14 +450,14 @@ class _LinuxCncCompensator:
             beta += TWO_PI
         inside = _tool_inside_arc(side, turn)
         if inside:
-            gamma = _angle(p, center)  # type: ignore[arg-type]
+            gamma = _angle(p, center)
             if arc_radius <= r:
                 raise _Stop("LCNC-ARC-TOO-SMALL", m.span)
         else:
-            gamma = _angle(center, p)  # type: ignore[arg-type]
+            gamma = _angle(center, p)
             delta += math.pi
-        e = _at(p, r, gamma)  # type: ignore[arg-type]
-        prog_sweep = find_turn(op, center, turn, p)  # type: ignore[arg-type]
+        e = _at(p, r, gamma)
+        prog_sweep = find_turn(op, center, turn, p)
         front = self._front()
         if beta < -small or beta > math.pi + small or (abs(beta - math.pi) < small and not inside):
             if front is None or not front.is_arc:  # line -> arc
@@ -450,7 +473,11 @@ class _LinuxCncCompensator:
                     l = (cyv - r) / dist
                     if l > 1.0 or l < -1.0:
                         raise _Stop("LCNC-CONCAVE-GOUGE-ARC", m.span)
-                    ang = theta + math.pi - math.asin(l) if turn > 0 else theta + math.pi + math.asin(l)
+                    ang = (
+                        theta + math.pi - math.asin(l)
+                        if turn > 0
+                        else theta + math.pi + math.asin(l)
+                    )
                 mid = _at(center, dist, ang)
             else:  # arc -> arc
                 assert front.center is not None
@@ -473,9 +500,9 @@ class _LinuxCncCompensator:
             yield from self._move_endpoint_and_flush(mid, m.span)
             start = (mid[0], mid[1], cz)
         elif beta > small:  # outside corner: an arc around the programmed corner first
-            mid = _at(op, r, delta)  # type: ignore[arg-type]
+            mid = _at(op, r, delta)
             yield from self._flush()
-            corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)  # type: ignore[arg-type]
+            corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)
             seg = self._segment(corner)
             if seg is not None:
                 yield seg
@@ -483,10 +510,18 @@ class _LinuxCncCompensator:
             start = (mid[0], mid[1], cz)
         else:
             yield from self._flush()
-            self.endpoint = c  # type: ignore[assignment]
+            self.endpoint = c
             start = self.cur
         self.queue.append(
-            _Queued(start, (e[0], e[1], end[2]), m, Role.CONTOUR, center=center, turn=turn, prog_sweep=prog_sweep)
+            _Queued(
+                start,
+                (e[0], e[1], end[2]),
+                m,
+                Role.CONTOUR,
+                center=center,
+                turn=turn,
+                prog_sweep=prog_sweep,
+            )
         )
         self.cur, self.prog = (e[0], e[1], end[2]), end
 
@@ -523,5 +558,7 @@ def compensate_linuxcnc(
     complete:
         False when the moves stop early (the front end raised an error).
     """
-    comp = _LinuxCncCompensator(settings or TrcSettings(), diagnostics if diagnostics is not None else [], complete)
+    comp = _LinuxCncCompensator(
+        settings or TrcSettings(), diagnostics if diagnostics is not None else [], complete
+    )
     return comp.run(moves)

@@ -63,7 +63,9 @@ def _unit_factor(unit: str) -> float:
     if key in ("in", "inches"):
         key = "inch"
     if key not in TBL_UNITS:
-        raise ConfigError(f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code="CONFIG")
+        raise ConfigError(
+            f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code="CONFIG"
+        )
     return TBL_UNITS[key]
 
 
@@ -87,7 +89,9 @@ def parse_tbl(text: str, unit: str = "inch", source: str = "<table>") -> LinuxCn
         for letter, value in _WORD.findall(body):
             letter = letter.upper()
             if letter not in _KNOWN:
-                raise ConfigError(f"tool table: unknown word {letter!r}; valid: {' '.join(sorted(_KNOWN))}", span)
+                raise ConfigError(
+                    f"tool table: unknown word {letter!r}; valid: {' '.join(sorted(_KNOWN))}", span
+                )
             if letter in words:
                 raise ConfigError(f"tool table: word {letter} given twice", span)
             words[letter] = float(value)

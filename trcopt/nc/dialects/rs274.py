@@ -106,7 +106,9 @@ class Rs274Reader:
                 )
             )
             tools = table
-        self.tools: LinuxCncToolTable = tools if isinstance(tools, LinuxCncToolTable) else LinuxCncToolTable()
+        self.tools: LinuxCncToolTable = (
+            tools if isinstance(tools, LinuxCncToolTable) else LinuxCncToolTable()
+        )
 
     # -- reading ----------------------------------------------------------------------------
     def read(self, text: str) -> NcProgram:
@@ -136,13 +138,23 @@ class Rs274Reader:
         if "(" in body and body.count("(") != body.count(")"):
             raise _Stop("NC-SYNTAX", "unclosed comment")
         body = _COMMENT.sub(lambda mt: " " * len(mt.group(0)), body)
-        for bad, what in (("#", "parameters (#)"), ("[", "expressions ([ ])"), ("<", "named parameters")):
+        for bad, what in (
+            ("#", "parameters (#)"),
+            ("[", "expressions ([ ])"),
+            ("<", "named parameters"),
+        ):
             k = body.find(bad)
             if k >= 0:
-                raise _Stop("NC-UNSUPPORTED", f"{what} are not supported by the rs274 reader", k + 1)
+                raise _Stop(
+                    "NC-UNSUPPORTED", f"{what} are not supported by the rs274 reader", k + 1
+                )
         m = re.search(r"(?i)\bo\s*[\d<]", body) or re.match(r"(?i)\s*o", body)
         if m:
-            raise _Stop("NC-UNSUPPORTED", "O-word subroutines and control flow are not supported", m.start() + 1)
+            raise _Stop(
+                "NC-UNSUPPORTED",
+                "O-word subroutines and control flow are not supported",
+                m.start() + 1,
+            )
         words: list[tuple[str, float, int]] = []
         end = 0
         for mt in _WORD.finditer(body):
@@ -243,7 +255,18 @@ class Rs274Reader:
         if not axes and not full_circle:
             if motion is MoveKind.ARC:
                 raise _Stop("NC-SYNTAX", "G2/G3 without end point or centre")
-            moves.append(Move(MoveKind.NONE, st.pos, st.pos, st.plane, span, comp, st.feed_mm_s, actions=tuple(actions)))
+            moves.append(
+                Move(
+                    MoveKind.NONE,
+                    st.pos,
+                    st.pos,
+                    st.plane,
+                    span,
+                    comp,
+                    st.feed_mm_s,
+                    actions=tuple(actions),
+                )
+            )
             return ended
         if st.motion is None:
             raise _Stop("NC-SYNTAX", "axis words without a motion mode (G0/G1/G2/G3)")
@@ -262,8 +285,17 @@ class Rs274Reader:
         if kind is MoveKind.ARC:
             move = self._arc(st, values, end_t, span, comp, feed, tuple(actions), plane_programmed)
         else:
-            move = Move(kind, st.pos, end_t, st.plane, span, comp, feed, actions=tuple(actions),
-                        plane_programmed=plane_programmed)
+            move = Move(
+                kind,
+                st.pos,
+                end_t,
+                st.plane,
+                span,
+                comp,
+                feed,
+                actions=tuple(actions),
+                plane_programmed=plane_programmed,
+            )
         moves.append(move)
         st.pos = end_t
         return ended
@@ -294,9 +326,14 @@ class Rs274Reader:
             return
         tool = self.tools.get(number)
         if tool is None:
-            raise _Stop("LCNC-TOOL-NOT-FOUND", f"Requested tool {number} not found in the tool table")
+            raise _Stop(
+                "LCNC-TOOL-NOT-FOUND", f"Requested tool {number} not found in the tool table"
+            )
         if tool.orientation not in (0, 9):
-            raise _Stop("NC-UNSUPPORTED", f"lathe tool T{number} (orientation {tool.orientation}) is not supported")
+            raise _Stop(
+                "NC-UNSUPPORTED",
+                f"lathe tool T{number} (orientation {tool.orientation}) is not supported",
+            )
         st.radius_mm = tool.radius_mm
 
     def _arc(
@@ -319,11 +356,15 @@ class Rs274Reader:
         if "P" in values:
             p = values["P"]
             if p != int(p) or p < 1:
-                raise _Stop("NC-SYNTAX", "P word of an arc must be a positive whole number of turns")
+                raise _Stop(
+                    "NC-SYNTAX", "P word of an arc must be a positive whole number of turns"
+                )
             turns = int(p) - 1
         if "R" in values:
             try:
-                c2 = arc_centre_from_radius(s2, e2, values["R"] * st.unit, ccw, self.arc_tolerance_mm, 1e-9)
+                c2 = arc_centre_from_radius(
+                    s2, e2, values["R"] * st.unit, ccw, self.arc_tolerance_mm, 1e-9
+                )
             except ValueError as exc:
                 raise _Stop("LCNC-ARC-RADIUS", f"R-format arc: {exc}") from None
         else:
@@ -352,8 +393,20 @@ class Rs274Reader:
             if r0 == 0.0:
                 raise _Stop("LCNC-ARC-RADIUS", "Zero-radius arc")
         centre = plane.to_xyz((c2[0], c2[1], s_uvw[2]))
-        return Move(MoveKind.ARC, st.pos, end, plane, span, comp, feed, center=centre, ccw=ccw, turns=turns,
-                    actions=actions, plane_programmed=plane_programmed)
+        return Move(
+            MoveKind.ARC,
+            st.pos,
+            end,
+            plane,
+            span,
+            comp,
+            feed,
+            center=centre,
+            ccw=ccw,
+            turns=turns,
+            actions=actions,
+            plane_programmed=plane_programmed,
+        )
 
 
 def read_rs274(
