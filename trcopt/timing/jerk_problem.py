@@ -49,6 +49,7 @@ from .sections import Section
 __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 
 DTHETA_JERK = 0.05  # rad, largest arc angle per interval
+ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
 CURVATURE_JUMP_TOL = 1e-9  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
 
 
@@ -226,6 +227,7 @@ class JerkProblem:
             vl = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dl[0])).min(axis=1)
             vr = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dr[0])).min(axis=1)
         f = self.feeds[self.iseg]
+        self.icap = np.minimum(np.minimum(vl, vr), f)  # per interval (feed and axis velocity)
         cap = np.full(n_int + 1, np.inf)
         cap[:-1] = np.minimum(cap[:-1], np.minimum(vl, f))
         cap[1:] = np.minimum(cap[1:], np.minimum(vr, f))
@@ -282,10 +284,13 @@ class JerkProblem:
         opti.subject_to((a0 + jj * h - a1) / self.aref == 0)
         cap = np.where(np.isfinite(self.vcap), self.vcap, 1e6) / self.vref
         opti.subject_to(opti.bounded(0, V, ca.DM(cap)))
+        # ṡ is quadratic in t on an interval; its middle Bernstein coefficient v_i + a_i h/2 bounds it
+        # from above (convex hull), so the speed caps hold inside the interval as well
+        opti.subject_to((v0 + a0 * h / 2) / self.vref <= ca.DM(self.icap / self.vref))
         opti.subject_to(A[0] == 0)
         opti.subject_to(H >= 1e-9)
         for k in self.axes_used:
-            lim_a = ca.DM(self.tighten)
+            lim_a = ca.DM(self.tighten * ACC_MARGIN)
             for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
                 acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
                 jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
@@ -352,9 +357,9 @@ class JerkProblem:
         vel = float(np.max(np.maximum(p.v - cap, 0.0) / np.maximum(cap, 1.0)))
         acc = jer = 0.0
         for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
-            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (self.amax[None, :] * self.tighten[:, None])
+            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (self.amax[None, :] * self.tighten[:, None] * ACC_MARGIN)
             Jx = np.abs(d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]) / (
-                self.jmax[None, :] * self.tighten[:, None]
+                self.jmax[None, :] * self.tighten[:, None] * ACC_MARGIN
             )
             acc = max(acc, float(A.max()) - 1.0)
             jer = max(jer, float(Jx.max()) - 1.0)
