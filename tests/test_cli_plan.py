@@ -127,3 +127,21 @@ def test_failed_output_leaves_no_half_written_file(tmp_path) -> None:
     rc = main(["plan", str(SQUARE), "--no-timing", "--json", str(target)])
     assert rc == 2
     assert not list(tmp_path.glob("*.tmp*"))
+
+
+PEER = ROOT / ".." / "shared" / "peer_cases" / "linuxcnc" / "ccomp-mill-line-arc-entry"
+
+
+@pytest.mark.skipif(not PEER.is_dir(), reason="LinuxCNC peer data not beside the checkout")
+def test_rs274_program_with_a_tool_table_option(tmp_path, capsys) -> None:
+    prog = tmp_path / "entry.ngc"
+    prog.write_text((PEER / "test.ngc").read_text())
+    out = tmp_path / "p.json"
+    rc = main(["plan", str(prog), "--no-timing", "--tool-table", str(PEER / "test.tbl"), "--json", str(out)])
+    assert rc == 0
+    plan = json.loads(out.read_text())
+    assert plan["dialect"] == "rs274" and plan["profile"] == "linuxcnc"
+    radii = {round(s["radius"], 9) for s in plan["toolpath"] if s["side"]}
+    assert radii == {12.7}  # T4 D1.0 inch in the table: r = 0.5 in
+    assert main(["plan", str(prog), "--tool-table", str(tmp_path / "none.tbl")]) == 2
+    assert "cannot read tool table" in capsys.readouterr().err

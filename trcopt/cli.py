@@ -33,6 +33,14 @@ def _add_plan_arguments(p: argparse.ArgumentParser) -> None:
         help="compensation semantics (default: by dialect; rs274 → linuxcnc)",
     )
     p.add_argument("--machine", metavar="FILE.toml", help="machine limits (default: embedded machine)")
+    p.add_argument(
+        "--tool-table", metavar="F",
+        help="tool table: LinuxCNC .tbl (rs274) or TOML (heidenhain); default: beside the program",
+    )
+    p.add_argument(
+        "--tool-unit", default="inch", choices=["inch", "mm"],
+        help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
+    )
     p.add_argument("--json", metavar="F", help="write the plan JSON (schema trcopt.plan/1)")
     p.add_argument("--gcode", metavar="F", help="write plain tool-centre G-code (G40 only)")
     p.add_argument(
@@ -91,6 +99,8 @@ def _options(args: argparse.Namespace):  # type: ignore[no-untyped-def]
         machine=machine,
         timing=not getattr(args, "no_timing", True),
         strict=args.strict,
+        tool_table=getattr(args, "tool_table", None),
+        tool_unit=getattr(args, "tool_unit", "inch"),
     )
 
 

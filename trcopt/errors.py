@@ -45,7 +45,9 @@ class SourceSpan:
     end_column: int | None = None
 
     def label(self) -> str:
-        """``file:line:col`` as compilers print it."""
+        """``file:line:col`` as compilers print it (just ``file`` when there is no position)."""
+        if not self.line:
+            return self.file
         return f"{self.file}:{self.line}:{self.column}"
 
     def block_label(self) -> str:

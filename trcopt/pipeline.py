@@ -42,6 +42,9 @@ class PlanOptions:
         Compute the time-optimal feed profile and cycle time.
     strict:
         Treat possible contour violations (CDOF reversed elements) as alarm 10751.
+    tool_table, tool_unit:
+        A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
+        heidenhain); by default the readers look beside the program.
     """
 
     dialect: str = "auto"
@@ -50,6 +53,8 @@ class PlanOptions:
     machine: Machine = DEFAULT_MACHINE
     timing: bool = True
     strict: bool = False
+    tool_table: str | None = None
+    tool_unit: str = "inch"
 
 
 @dataclass(slots=True)
@@ -141,7 +146,13 @@ def plan(
     if dialect == "auto":
         dialect = detect_dialect(source, file)
     nc = read_program(
-        source, file=file, dialect=dialect, tolerances=settings.tolerances, max_disc=settings.cutcom_max_disc
+        source,
+        file=file,
+        dialect=dialect,
+        tolerances=settings.tolerances,
+        max_disc=settings.cutcom_max_disc,
+        tool_table=opts.tool_table,
+        tool_unit=opts.tool_unit,
     )
     diagnostics = list(nc.diagnostics)
     tol = settings.tolerances.coincidence_mm

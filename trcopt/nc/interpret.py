@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from ..config import Tolerances
-from ..errors import AlarmError, Diagnostic, Severity, SourceSpan
+from ..errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan
 from ..geometry.plane import Plane
 from .model import (
     ApproachMode,
@@ -222,6 +222,8 @@ def read_program(
     tools: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None = None,
     tolerances: Tolerances | None = None,
     max_disc: int = 50,
+    tool_table: str | os.PathLike[str] | None = None,
+    tool_unit: str = "inch",
 ) -> NcProgram:
     """Read a part program into canonical moves.
 
@@ -244,6 +246,11 @@ def read_program(
         Geometric tolerances (arc end radius check: ``arc_end_radius_mm``, default 0.002 mm).
     max_disc:
         Upper limit of DISC (MD20220, default 50).
+    tool_table:
+        A tool-table file: LinuxCNC ``.tbl`` for rs274 (lengths in ``tool_unit``, ``"inch"`` —
+        LinuxCNC's default machine unit — or ``"mm"``), TOML for heidenhain. SINUMERIK programs
+        carry their tool data as ``$TC_DP`` assignments (or ``tools``). An unreadable or invalid
+        table raises :class:`~trcopt.errors.ConfigError`.
     """
     from .dialects import detect_dialect
 
@@ -266,15 +273,27 @@ def read_program(
     if name == "siemens":
         from .dialects.siemens import SiemensReader
 
+        if tool_table is not None:
+            raise ConfigError(
+                "SINUMERIK programs take their tool data from $TC_DP assignments (or the tools= "
+                "mapping), not from a tool-table file"
+            )
+
         return SiemensReader(options).read(text)
     if name == "heidenhain":
-        from .dialects.heidenhain import read_heidenhain
+        from .dialects.heidenhain import HeidenhainOptions, read_heidenhain
 
-        return read_heidenhain(text, file=file, tolerances=options.tolerances)
+        hh = None
+        if tool_table is not None:
+            from .dialects.heidenhain_tools import load_tool_table
+
+            hh = HeidenhainOptions(tools=load_tool_table(tool_table))
+        return read_heidenhain(text, file=file, tolerances=options.tolerances, options=hh)
     if name == "rs274":
         from .dialects.rs274 import read_rs274
 
-        return read_rs274(text, file=file, tools=options.tools)  # type: ignore[arg-type]
+        table = tool_table if tool_table is not None else options.tools
+        return read_rs274(text, file=file, tools=table, tool_unit=tool_unit)  # type: ignore[arg-type]
     diag = Diagnostic(
         Severity.ERROR,
         "NC-DIALECT",
