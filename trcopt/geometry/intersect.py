@@ -25,34 +25,36 @@ class Hit(NamedTuple):
 
 
 def _line_line(a: Line, b: Line) -> list[Hit]:
-    p, r = a.start2, vec.sub(a.end2, a.start2)
-    q, s = b.start2, vec.sub(b.end2, b.start2)
-    den = vec.cross(r, s)
-    scale = vec.norm(r) * vec.norm(s)
+    (px, py, _), (ex, ey, _) = a.start, a.end
+    (qx, qy, _), (fx, fy, _) = b.start, b.end
+    rx, ry, sx, sy = ex - px, ey - py, fx - qx, fy - qy
+    den = rx * sy - ry * sx
+    scale = math.hypot(rx, ry) * math.hypot(sx, sy)
     if scale == 0.0 or abs(den) <= 1e-12 * scale:
         return []
-    qp = vec.sub(q, p)
-    t = vec.cross(qp, s) / den
-    u = vec.cross(qp, r) / den
-    return [Hit(a.point2(t), t, u)]
+    wx, wy = qx - px, qy - py
+    t = (wx * sy - wy * sx) / den
+    u = (wx * ry - wy * rx) / den
+    return [Hit((px + t * rx, py + t * ry), t, u)]
 
 
 def _line_circle(line: Line, center: Vec2, radius: float, tol: float) -> list[tuple[Vec2, float]]:
-    p = line.start2
-    d = vec.sub(line.end2, p)
-    dd = vec.dot(d, d)
+    (px, py, _), (ex, ey, _) = line.start, line.end
+    dx, dy = ex - px, ey - py
+    dd = dx * dx + dy * dy
     if dd == 0.0 or radius <= 0.0:
         return []
     # foot of the perpendicular from the centre
-    t0 = vec.dot(vec.sub(center, p), d) / dd
-    foot = line.point2(t0)
-    h = vec.dist(foot, center)
+    t0 = ((center[0] - px) * dx + (center[1] - py) * dy) / dd
+    fx, fy = px + t0 * dx, py + t0 * dy
+    h = math.hypot(fx - center[0], fy - center[1])
     if h > radius + tol:
         return []
     if h >= radius - tol * 1e-3 and abs(h - radius) <= tol:
-        return [(foot, t0)]
+        return [((fx, fy), t0)]
     half = math.sqrt(max(radius * radius - h * h, 0.0)) / math.sqrt(dd)
-    return [(line.point2(t0 - half), t0 - half), (line.point2(t0 + half), t0 + half)]
+    t1, t2 = t0 - half, t0 + half
+    return [((px + t1 * dx, py + t1 * dy), t1), ((px + t2 * dx, py + t2 * dy), t2)]
 
 
 def _circle_circle(c1: Vec2, r1: float, c2: Vec2, r2: float, tol: float) -> list[Vec2]:
@@ -85,17 +87,23 @@ def _poly_param(p: Poly, seg_index: int, t: float) -> float:
 
 def intersections(a: object, b: object, tol: float = 1e-9) -> list[Hit]:
     """All intersections of the carriers of two elements (polys: bounded samples only)."""
-    if isinstance(a, Poly) or isinstance(b, Poly):
+    ta, tb = type(a), type(b)
+    if ta is Line:
+        if tb is Line:
+            return _line_line(a, b)  # type: ignore[arg-type]
+        if tb is Arc:
+            return [Hit(p, t, b.param_of(p)) for p, t in _line_circle(a, b.center, b.radius, tol)]  # type: ignore[arg-type, attr-defined]
+    elif ta is Arc:
+        if tb is Line:
+            return [Hit(p, a.param_of(p), t) for p, t in _line_circle(b, a.center, a.radius, tol)]  # type: ignore[arg-type, attr-defined]
+        if tb is Arc:
+            return [
+                Hit(p, a.param_of(p), b.param_of(p))  # type: ignore[attr-defined]
+                for p in _circle_circle(a.center, a.radius, b.center, b.radius, tol)  # type: ignore[attr-defined]
+            ]
+    if ta is Poly or tb is Poly:
         return _with_poly(a, b, tol)
-    if isinstance(a, Line) and isinstance(b, Line):
-        return _line_line(a, b)
-    if isinstance(a, Line) and isinstance(b, Arc):
-        return [Hit(p, t, b.param_of(p)) for p, t in _line_circle(a, b.center, b.radius, tol)]
-    if isinstance(a, Arc) and isinstance(b, Line):
-        return [Hit(p, a.param_of(p), t) for p, t in _line_circle(b, a.center, a.radius, tol)]
-    if isinstance(a, Arc) and isinstance(b, Arc):
-        return [Hit(p, a.param_of(p), b.param_of(p)) for p in _circle_circle(a.center, a.radius, b.center, b.radius, tol)]
-    raise TypeError(f"cannot intersect {type(a).__name__} with {type(b).__name__}")
+    raise TypeError(f"cannot intersect {ta.__name__} with {tb.__name__}")
 
 
 def _with_poly(a: object, b: object, tol: float) -> list[Hit]:
