@@ -666,56 +666,62 @@ class Compensator:
         return found
 
     # ------------------------------------------------------------------ emission
-    def _emit(self, elem: Elem, chain: list[Piece], omitted: list[Elem]) -> Iterator[Segment]:
+    def _emit(self, elem: Elem, chain: list[Piece], omitted: list[Elem]) -> list[Segment]:
+        """The segments of a resolved block: its dummy blocks at the chain start, its pieces with
+        one linear applicate ramp over their plane length (§D-9), the omitted blocks' content at
+        the chain end (R27)."""
         side = Side.LEFT if elem.side > 0 else Side.RIGHT
+        out: list[Segment] = []
         if elem.dummies:
             start_pt = chain[0].start_point() if chain else (elem.prog.start[0], elem.prog.start[1])
-            for d in elem.dummies:
-                yield from self._at_point(d, start_pt, side, elem.r0)
+            out.extend(s for s in (self._at_point(d, start_pt, side, elem.r0) for d in elem.dummies) if s)
         w0, w1 = elem.prog.start[2], elem.prog.end[2]
         radius = elem.r1 if elem.kind is not ElemKind.RETRACT else elem.r0
-        if w0 == w1 and not omitted and len(chain) == 1:  # the common 2D case: one piece
+        plane = elem.plane
+        if w0 == w1 and len(chain) == 1:  # the common 2D case: one piece
             piece = chain[0]
             geom = piece.geometry(w0, w0)
             if geom.plane_length > 1e-12:
                 move = piece.elem.move
-                yield Segment(geom, elem.plane, piece.role, move.span, move.feed_mm_s, side, radius)
-            return
-        flat = [p.geometry(w0, w0) for p in chain]
-        lengths = [g.plane_length for g in flat]
-        total = sum(lengths)
-        acc = 0.0
-        for piece, length, geom in zip(chain, lengths, flat, strict=True):
-            wa = w0 + (w1 - w0) * (acc / total if total > 0 else 0.0)
-            acc += length
-            wb = w0 + (w1 - w0) * (acc / total if total > 0 else 1.0)
-            if length <= 1e-12 and abs(wb - wa) <= 1e-12:
-                continue
-            if w1 != w0:
-                geom = piece.geometry(wa, wb)
-            pe = piece.elem
-            yield Segment(geom, elem.plane, piece.role, pe.move.span, pe.move.feed_mm_s, side, radius)
-        end_pt = chain[-1].end_point() if chain else start_pt
-        for o in omitted:
-            for d in o.dummies:
-                yield from self._at_point(d, end_pt, side, o.r1)
-            yield from self._at_point(o.move, end_pt, side, o.r1)
+                out.append(Segment(geom, plane, piece.role, move.span, move.feed_mm_s, side, radius))
+        else:
+            flat = [p.geometry(w0, w0) for p in chain]
+            lengths = [g.plane_length for g in flat]
+            total = sum(lengths)
+            acc = 0.0
+            for piece, length, geom in zip(chain, lengths, flat, strict=True):
+                wa = w0 + (w1 - w0) * (acc / total if total > 0 else 0.0)
+                acc += length
+                wb = w0 + (w1 - w0) * (acc / total if total > 0 else 1.0)
+                if length <= 1e-12 and abs(wb - wa) <= 1e-12:
+                    continue
+                if w1 != w0:
+                    geom = piece.geometry(wa, wb)
+                move = piece.elem.move
+                out.append(Segment(geom, plane, piece.role, move.span, move.feed_mm_s, side, radius))
+        if omitted:
+            end_pt = chain[-1].end_point() if chain else (elem.prog.end[0], elem.prog.end[1])
+            for o in omitted:
+                for m in (*o.dummies, o.move):
+                    seg = self._at_point(m, end_pt, side, o.r1)
+                    if seg is not None:
+                        out.append(seg)
+        return out
 
-    def _at_point(self, m: Move, p: Vec2, side: Side, radius: float) -> Iterator[Segment]:
+    def _at_point(self, m: Move, p: Vec2, side: Side, radius: float) -> Segment | None:
         """A block without plane motion executed at plane point p (applicate motion only)."""
         if m.kind is MoveKind.NONE:
-            return
+            return None
         w0 = m.plane.to_uvw(m.start)[2]
         w1 = m.plane.to_uvw(m.end)[2]
         if abs(w1 - w0) <= 1e-12:
-            return
+            return None
         geom = Line((p[0], p[1], w0), (p[0], p[1], w1))
         if m.origin in ("approach", "retract"):
             role = Role(m.origin)
         else:
             role = Role.RAPID if m.kind is MoveKind.RAPID else Role.POSITIONING
-        yield Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
-
+        return Segment(geom, m.plane, role, m.span, m.feed_mm_s, side, radius)
 
 AUX_LINE_MM = 1.0e5  # length of the G462 tangent extension searched for an intersection
 
