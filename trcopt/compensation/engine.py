@@ -201,14 +201,15 @@ class Compensator:
                 continue
             index += 1
             geom = make_programmed_geometry(m)
-            if _side_of(m) == 0:
+            side_m = _side_of(m)
+            if side_m == 0:
                 if m.kind is MoveKind.ARC:
                     raise self._alarm(10754, "tool radius compensation deselected in a circular block", m.span)
                 yield Elem(index, ElemKind.RETRACT, m, geom, s, prev_r, 0.0, dummies)
                 return
             if m.plane is not first.plane:
                 raise self._alarm(10757, "plane change while tool radius compensation is active", m.span)
-            if _side_of(m) != s:
+            if side_m != s:
                 raise AlarmError(
                     Diagnostic(
                         Severity.ERROR,
@@ -217,7 +218,7 @@ class Compensator:
                         m.span,
                     )
                 )
-            r = m.comp.effective_radius
+            r = abs(m.comp.radius)
             elem = Elem(index, ElemKind.CONTOUR, m, geom, s, prev_r, r, dummies)
             if elem.variable and elem.degenerate:
                 raise self._alarm(
