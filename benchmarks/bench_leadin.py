@@ -42,9 +42,8 @@ def suite(quick: bool = False) -> list[Path]:
 def main(argv: list[str]) -> int:
     quick = "--quick" in argv
     rows = []
-    header = (
-        f"{'problem':38s} {'lead':9s} {'L_opt':>7s} {'T_opt':>7s} | "
-        + " | ".join(f"{c}: {'L':>6s} {'T':>6s} {'T/T':>5s} {'L/L':>5s}" for c in ("G147", "G247", "G347"))
+    header = f"{'problem':38s} {'lead':9s} {'L_opt':>7s} {'T_opt':>7s} | " + " | ".join(
+        f"{c}: {'L':>6s} {'T':>6s} {'T/T':>5s} {'L/L':>5s}" for c in ("G147", "G247", "G347")
     )
     print(header)
     print("-" * len(header))
@@ -61,8 +60,15 @@ def main(argv: list[str]) -> int:
         name = f"{prog.parent.name}/{prog.stem}"[:38]
         try:
             lead = optimal_lead(
-                inp["start"], inp["contour"], inp["radius"], inp["side"], rho_min=RHO_MIN, safety=SAFETY,
-                feed_mm_s=inp["feed_mm_s"], plane=inp["plane"], machine=DEFAULT_MACHINE,
+                inp["start"],
+                inp["contour"],
+                inp["radius"],
+                inp["side"],
+                rho_min=RHO_MIN,
+                safety=SAFETY,
+                feed_mm_s=inp["feed_mm_s"],
+                plane=inp["plane"],
+                machine=DEFAULT_MACHINE,
             )
         except TrcoptError as exc:
             print(f"{name:38s} no lead: {str(exc)[:110]}")
@@ -87,7 +93,8 @@ def main(argv: list[str]) -> int:
             ts, ls = [r[0] for r in rs], [r[1] for r in rs]
             print(
                 f"{code} (non-gouging, n={len(rs)}): time ratio mean {sum(ts) / len(ts):.3f} "
-                f"[{min(ts):.3f}, {max(ts):.3f}], length ratio mean {sum(ls) / len(ls):.3f} [{min(ls):.3f}, {max(ls):.3f}]"
+                f"[{min(ts):.3f}, {max(ts):.3f}], length ratio mean {sum(ls) / len(ls):.3f} "
+                f"[{min(ls):.3f}, {max(ls):.3f}]"
             )
     print(f"{len(rows)} problems in {time.perf_counter() - t_all:.1f} s")
     return 0

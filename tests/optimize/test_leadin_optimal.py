@@ -71,10 +71,13 @@ def _check_lead(res, contour, R, safety, rho_min, region=None):
     last = res.elements[-1]
     assert math.dist(last.end, res.p4c) <= 1e-6
     te = last.end_tangent()
-    assert abs(te[0] * res.tangent[1] - te[1] * res.tangent[0]) <= 1e-6 and te[0] * res.tangent[0] + te[1] * res.tangent[1] > 0
+    assert (
+        abs(te[0] * res.tangent[1] - te[1] * res.tangent[0]) <= 1e-6
+        and te[0] * res.tangent[0] + te[1] * res.tangent[1] > 0
+    )
     # starts at P0, continuous, no reversal of the applicate
     assert math.dist(res.elements[0].start, res.p0) <= 1e-9
-    for a, b in zip(res.elements, res.elements[1:]):
+    for a, b in zip(res.elements, res.elements[1:], strict=False):
         assert math.dist(a.end, b.start) <= 1e-6
     w = pts[:, 2]
     sign = 1.0 if w[-1] >= w[0] else -1.0
@@ -101,11 +104,10 @@ def _check_lead(res, contour, R, safety, rho_min, region=None):
 @pytest.mark.parametrize(
     "contour, start, side",
     [
-        (SQUARE, (-20.0, -20.0, 10.0), "left"),
-        (SQUARE, (25.0, -25.0, 3.0), "left"),
-        (ARC_PART, (-15.0, 15.0, 5.0), "left"),
+        pytest.param(SQUARE, (-20.0, -20.0, 10.0), "left", id="square-behind"),
+        pytest.param(SQUARE, (25.0, -25.0, 3.0), "left", id="square-side", marks=pytest.mark.slow),
+        pytest.param(ARC_PART, (-15.0, 15.0, 5.0), "left", id="arc-start", marks=pytest.mark.slow),
     ],
-    ids=["square-behind", "square-side", "arc-start"],
 )
 def test_optimal_lead_satisfies_the_constraints(contour, start, side) -> None:
     res = optimal_lead(start, contour, 5.0, side, rho_min=3.0, safety=1.0, feed_mm_s=20.0)
@@ -141,6 +143,7 @@ def test_start_behind_the_part_is_an_error_naming_clearance() -> None:
         optimal_lead((60.0, 60.0, 0.0), SQUARE, 5.0, "left", rho_min=3.0, safety=1.0)
 
 
+@pytest.mark.slow
 def test_too_narrow_region_is_an_error_naming_region() -> None:
     region = [(-8.5, -40.0), (-4.5, -40.0), (-4.5, 10.0), (-8.5, 10.0)]
     with pytest.raises(SolverError, match="binding constraint 'region'"):
@@ -203,8 +206,16 @@ def _parser():
 def test_cli_leadin_writes_outputs(tmp_path, capsys) -> None:
     args = _parser().parse_args(
         [
-            "leadin", str(PROBLEMS / "ex02_square_g450.mpf"), "--rho-min", "3",
-            "--json", str(tmp_path / "l.json"), "--gcode", str(tmp_path / "l.mpf"), "--svg", str(tmp_path / "l.svg"),
+            "leadin",
+            str(PROBLEMS / "ex02_square_g450.mpf"),
+            "--rho-min",
+            "3",
+            "--json",
+            str(tmp_path / "l.json"),
+            "--gcode",
+            str(tmp_path / "l.mpf"),
+            "--svg",
+            str(tmp_path / "l.svg"),
         ]
     )
     assert args.func(args) == 0

@@ -327,14 +327,10 @@ def test_direction_reversal_is_infeasible_and_names_no_reversal() -> None:
 
 
 def _golden_sar_problems() -> list[Path]:
-    return sorted(
-        p for p in PROBLEMS.glob("ex*.mpf") if p.name[:4] in {"ex07", "ex08", "ex09", "ex10"}
-    )
+    return sorted(p for p in PROBLEMS.glob("ex*.mpf") if p.name[:4] in {"ex07", "ex08", "ex09", "ex10"})
 
 
-@pytest.mark.parametrize(
-    "program", _golden_sar_problems() or [None], ids=lambda p: getattr(p, "name", "none")
-)
+@pytest.mark.parametrize("program", _golden_sar_problems() or [None], ids=lambda p: getattr(p, "name", "none"))
 def test_agrees_with_the_analytic_sar_stage(program: Path | None) -> None:
     """Once the analytic SAR stage plans the golden SAR problems, its tool-centre points equal ours."""
     if program is None:

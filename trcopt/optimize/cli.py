@@ -106,15 +106,23 @@ def run_leadin(args: argparse.Namespace) -> int:
         if not res.ok:
             for d in res.errors:
                 print(d.format(), file=sys.stderr)
-            print(f"error: {args.program}: the program raised an alarm before the lead could be planned",
-                  file=sys.stderr)
+            print(
+                f"error: {args.program}: the program raised an alarm before the lead could be planned", file=sys.stderr
+            )
             return 1
         inputs = lead_inputs_from_plan(res)
         side = args.side or inputs["side"]
         lead = optimal_lead(
-            inputs["start"], inputs["contour"], inputs["radius"], side,
-            rho_min=args.rho_min, safety=args.safety, region=region, machine=machine,
-            feed_mm_s=inputs["feed_mm_s"], plane=inputs["plane"],
+            inputs["start"],
+            inputs["contour"],
+            inputs["radius"],
+            side,
+            rho_min=args.rho_min,
+            safety=args.safety,
+            region=region,
+            machine=machine,
+            feed_mm_s=inputs["feed_mm_s"],
+            plane=inputs["plane"],
         )
     except SolverError as exc:
         print(f"error: {args.program}: {exc}", file=sys.stderr)

@@ -30,7 +30,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -137,13 +137,19 @@ class LeadResult:
             "side": self.side.value,
             "rho": self.best.rho,
             "sweep_deg": None if self.best.sweep is None else math.degrees(self.best.sweep),
-            "sar": None if self.sar is None else {
-                "contour": self.sar.contour, "disr": self.sar.disr, "discl": self.sar.discl, "side": self.sar.side
-            },
+            "sar": None
+            if self.sar is None
+            else {"contour": self.sar.contour, "disr": self.sar.disr, "discl": self.sar.discl, "side": self.sar.side},
             "segments": [s.to_json() for s in self.segments],
             "candidates": [
-                {"kind": c.kind, "time_s": c.time_s, "length_mm": c.length, "rho": c.rho,
-                 "status": c.solution.status.value, "iterations": c.solution.iterations}
+                {
+                    "kind": c.kind,
+                    "time_s": c.time_s,
+                    "length_mm": c.length,
+                    "rho": c.rho,
+                    "status": c.solution.status.value,
+                    "iterations": c.solution.iterations,
+                }
                 for c in self.candidates
             ],
         }
@@ -208,9 +214,7 @@ def _convex_halfplanes(region: Sequence[Vec2]) -> list[tuple[Vec2, Vec2]]:
 
 
 def _inside_margin(p: Vec2, edges: list[tuple[Vec2, Vec2]]) -> float:
-    return min(
-        ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / math.dist(a, b) for a, b in edges
-    )
+    return min(((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / math.dist(a, b) for a, b in edges)
 
 
 def _symbolic(g: Any) -> bool:
@@ -309,7 +313,9 @@ class _Context:
                 out["curvature"] = max(out["curvature"], self.rho_min - el.radius - 1e-9)
         last = elements[-1]
         te = _unit(last.end_tangent())
-        out["tangency"] = abs(te[0] * self.t[1] - te[1] * self.t[0]) + max(0.0, -(te[0] * self.t[0] + te[1] * self.t[1]))
+        out["tangency"] = abs(te[0] * self.t[1] - te[1] * self.t[0]) + max(
+            0.0, -(te[0] * self.t[0] + te[1] * self.t[1])
+        )
         out["tangency"] += math.dist(last.end[:2], self.p4c2)
         return {k: max(0.0, v) for k, v in out.items()}
 
@@ -396,8 +402,9 @@ def _solve_line_arc(ctx: _Context, c: int, rho_lb: float) -> tuple[Solution[Any]
     msg = str(stats.get("return_status", ""))
     if "Infeasible" in msg:
         status = SolveStatus.INFEASIBLE
-    sol_obj: Solution[Any] = Solution(status, float(val(length)), int(stats.get("iter_count", 0)), dt,
-                                      (r, f), viol, msg)
+    sol_obj: Solution[Any] = Solution(
+        status, float(val(length)), int(stats.get("iter_count", 0)), dt, (r, f), viol, msg
+    )
     return sol_obj, _line_arc_elements(ctx, c, r, f), r, f
 
 
@@ -594,7 +601,7 @@ def optimal_lead(
         No lead satisfies the constraints; the message names the binding constraint.
     """
     t_start = time.perf_counter()
-    side_e = parse_enum(Side, side)
+    side_e = cast(Side, parse_enum(Side, side))
     if side_e is Side.OFF:
         raise GeometryError("optimal lead needs a compensation side (left or right)")
     if radius <= 0.0 or rho_min <= 0.0 or safety < 0.0:
@@ -604,7 +611,7 @@ def optimal_lead(
     if not els:
         raise GeometryError("the contour has no plane motion")
     p0 = (float(start[0]), float(start[1]), float(start[2]) if len(start) > 2 else els[0].start[2])
-    ctx = _Context(p0, els, radius, side_e, rho_min, safety, region)  # type: ignore[arg-type]
+    ctx = _Context(p0, els, radius, side_e, rho_min, safety, region)
     if ctx.edges and _inside_margin(ctx.p4c2, ctx.edges) < -1e-9:
         raise SolverError("no lead fits: binding constraint 'region' (the contour start P4c lies outside it)")
     if ctx.edges and _inside_margin(p0[:2], ctx.edges) < -1e-9:
@@ -617,12 +624,14 @@ def optimal_lead(
                 f"element {i + 1}, less than R{'' if i in ctx.contact else ' + safety'} = {ctx.required(i):.4g} mm)",
                 code="SOLVER-INFEASIBLE",
             )
-    first_tc = offset_start(els[0], radius, side_e)  # type: ignore[arg-type]
+    first_tc = offset_start(els[0], radius, side_e)
     candidates: list[LeadCandidate] = []
     failures: list[tuple[str, Solution[Any], dict[str, float]]] = []
     objective = "time"
 
-    def consider(kind: str, sol: Solution[Any], elements: tuple[Element, ...], rho: float | None, phi: float | None) -> None:
+    def consider(
+        kind: str, sol: Solution[Any], elements: tuple[Element, ...], rho: float | None, phi: float | None
+    ) -> None:
         nonlocal objective
         exact = ctx.exact_check(elements)
         if not sol.ok or max(exact.values()) > 1e-6 or max(sol.constraint_violation.values(), default=0.0) > 1e-5:
@@ -633,8 +642,9 @@ def optimal_lead(
             return
         t, objective = lead_time(elements, first_tc, machine, feed_mm_s, plane, rho_min)
         candidates.append(
-            LeadCandidate(kind, elements, sum(e.length for e in elements), t, ctx.last_min_clear, ctx.last_contact,
-                          sol, rho, phi)
+            LeadCandidate(
+                kind, elements, sum(e.length for e in elements), t, ctx.last_min_clear, ctx.last_contact, sol, rho, phi
+            )
         )
 
     best_la: tuple[Element, ...] | None = None
@@ -650,12 +660,14 @@ def optimal_lead(
         consider("poly", sol, elements, None, None)
     if not candidates:
         worst: dict[str, float] = {}
-        for _, _, v in failures:
-            for k, x in v.items():
-                worst[k] = max(worst.get(k, 0.0), x)
+        for _, _, viol in failures:
+            for key, amount in viol.items():
+                worst[key] = max(worst.get(key, 0.0), amount)
         # prefer the geometric constraints over solver regularisation groups
         order = ["region", "clearance", "curvature", "tangency", "sweep", "regularity"]
-        name = next((k for k in order if worst.get(k, 0.0) > 1e-6), max(worst, key=lambda k: worst[k]) if worst else "?")
+        name = next(
+            (k for k in order if worst.get(k, 0.0) > 1e-6), max(worst, key=lambda k: worst[k]) if worst else "?"
+        )
         raise SolverError(
             f"no lead fits: binding constraint '{name}' (violated by {worst.get(name, float('nan')):.4g} "
             f"mm in the best attempt; R = {radius}, safety = {safety}, rho_min = {rho_min})",
@@ -667,6 +679,20 @@ def optimal_lead(
         c = 1 if isinstance(best.elements[-1], Arc) and best.elements[-1].sweep > 0 else -1
         sar = _sar_shape(ctx, c, best.rho, best.sweep, best.elements)
     return LeadResult(
-        best, tuple(candidates), objective, p0, ctx.p4, ctx.p4c, ctx.t, radius, side_e, plane, feed_mm_s, sar,  # type: ignore[arg-type]
-        first_tc, time.perf_counter() - t_start, rho_min, safety,
+        best,
+        tuple(candidates),
+        objective,
+        p0,
+        ctx.p4,
+        ctx.p4c,
+        ctx.t,
+        radius,
+        side_e,
+        plane,
+        feed_mm_s,
+        sar,
+        first_tc,
+        time.perf_counter() - t_start,
+        rho_min,
+        safety,
     )

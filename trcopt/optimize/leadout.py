@@ -41,10 +41,12 @@ def sar_baseline(result: LeadResult, code: str, disr: float | None = None) -> tu
 
     rho_min = result.rho_min
     disr_v = max(rho_min, result.radius) if disr is None else disr
-    spec = SarSpec(SarContour(code), SarSide.G140, SarSegmentation.G340, disr=disr_v, discl=None,
-                   end_programmed=(True, True, True))
-    g = sar_points(spec, p0=result.p0, p4=result.p4, tangent=result.tangent, comp_side=result.side.sign,
-                   radius=result.radius)
+    spec = SarSpec(
+        SarContour(code), SarSide.G140, SarSegmentation.G340, disr=disr_v, discl=None, end_programmed=(True, True, True)
+    )
+    g = sar_points(
+        spec, p0=result.p0, p4=result.p4, tangent=result.tangent, comp_side=result.side.sign, radius=result.radius
+    )
     c3 = (g.p3_centre[0], g.p3_centre[1])
     pts = [result.p0, (*c3, g.p1[2]), (*c3, g.p2[2]), (*c3, g.p3[2])]
     els: list[Element] = [Line(a, b) for a, b in zip(pts, pts[1:], strict=False) if math.dist(a, b) > 1e-12]
@@ -71,8 +73,14 @@ def compare_with_sar(
         t, _ = lead_time(els, result.first_contour, machine, result.feed_mm_s, result.plane, rho_min)
         viol = ctx.exact_check(els)
         out.append(
-            Baseline(code, max(rho_min, result.radius) if disr is None else disr, els,
-                     sum(e.length for e in els), t, viol["clearance"])
+            Baseline(
+                code,
+                max(rho_min, result.radius) if disr is None else disr,
+                els,
+                sum(e.length for e in els),
+                t,
+                viol["clearance"],
+            )
         )
     return out
 
@@ -101,8 +109,10 @@ def leadin_gcode(result: LeadResult, program: str = "") -> str:
     plane = result.plane
     f_mm_min = result.feed_mm_s * 60.0
     lines = [f"; optimal lead-in ({result.kind}, objective {result.objective}) {program}".rstrip()]
-    lines.append(f"; length {result.length:.3f} mm, {'time' if result.objective == 'time' else 'surrogate'} "
-                 f"{result.time_s:.4f}{' s' if result.objective == 'time' else ' mm'}")
+    lines.append(
+        f"; length {result.length:.3f} mm, {'time' if result.objective == 'time' else 'surrogate'} "
+        f"{result.time_s:.4f}{' s' if result.objective == 'time' else ' mm'}"
+    )
     lines.append(f"{plane.value} G90 G0 {_words(plane, result.p0)}")
     trc = "G41" if result.side.sign > 0 else "G42"
     if result.sar is not None:
@@ -159,8 +169,9 @@ def leadin_svg(result: LeadResult, contour: Sequence[Element], baselines: Sequen
     v0, v1 = min(p[1] for p in allp), max(p[1] for p in allp)
     pad = 0.05 * max(u1 - u0, v1 - v0, 1.0)
     w, h = u1 - u0 + 2 * pad, v1 - v0 + 2 * pad
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.3f} {h:.3f}" width="600" '
-           f'height="{600 * h / w:.0f}">']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.3f} {h:.3f}" width="600" height="{600 * h / w:.0f}">'
+    ]
     for ps, col, sw in polys:
         d = " ".join(f"{p[0] - u0 + pad:.4f},{v1 + pad - p[1]:.4f}" for p in ps)
         out.append(f'<polyline points="{d}" fill="none" stroke="{col}" stroke-width="{float(sw) * w / 300:.4f}"/>')

@@ -63,10 +63,7 @@ def carrier_residual(tool: Element, programmed: Element, radius: float) -> float
         rel = pts - a
         dist = np.abs(rel[:, 0] * d[1] - rel[:, 1] * d[0]) / n
     elif isinstance(programmed, Arc):
-        dist = np.abs(
-            np.hypot(pts[:, 0] - programmed.center[0], pts[:, 1] - programmed.center[1])
-            - programmed.radius
-        )
+        dist = np.abs(np.hypot(pts[:, 0] - programmed.center[0], pts[:, 1] - programmed.center[1]) - programmed.radius)
     else:
         dist = points_distance(programmed, pts)
     return float(np.max(np.abs(dist - radius)))
@@ -109,9 +106,7 @@ def bbox(el: Element) -> tuple[float, float, float, float]:
             a = k * math.pi / 2.0
             lam = (a - el.a0) / el.sweep if el.sweep != 0.0 else 2.0
             if 0.0 <= lam <= 1.0:
-                pts.append(
-                    (el.center[0] + el.radius * math.cos(a), el.center[1] + el.radius * math.sin(a))
-                )
+                pts.append((el.center[0] + el.radius * math.cos(a), el.center[1] + el.radius * math.sin(a)))
         us, vs = [p[0] for p in pts], [p[1] for p in pts]
         return (min(us), min(vs), max(us), max(vs))
     arr = np.array([p[:2] for p in el.points], float)
@@ -186,9 +181,7 @@ def _in_sweep_scalar(el: Arc, ang: float, tol: float = 1e-12) -> bool:
 
 def _pieces(el: Element) -> list[Line | Arc]:
     if isinstance(el, Poly):
-        return [
-            Line(a, b) for a, b in zip(el.points, el.points[1:], strict=False) if a[:2] != b[:2]
-        ]
+        return [Line(a, b) for a, b in zip(el.points, el.points[1:], strict=False) if a[:2] != b[:2]]
     return [el]
 
 
@@ -216,9 +209,7 @@ def _pair_distance(a: Line | Arc, b: Line | Arc) -> tuple[float, Vec2]:
     for p in (a.point2(0.0), a.point2(1.0)):
         cands.append((_point_distance(b, p), p))
     for q in (b.point2(0.0), b.point2(1.0)):
-        cands.append(
-            (_point_distance(a, q), q)
-        )  # the point of a is within d of q; keep q as a locator
+        cands.append((_point_distance(a, q), q))  # the point of a is within d of q; keep q as a locator
     # interior-interior critical points (common normals)
     if isinstance(a, Arc) and isinstance(b, Arc):
         u = np.array(b.center) - np.array(a.center)
@@ -318,10 +309,7 @@ def ca_point_element_distance(p: Any, el: Element) -> Any:
         return ca_point_segment_distance(p, el.start2, el.end2)
     if isinstance(el, Arc):
         return ca_point_arc_distance(p, el)
-    ds = [
-        ca_point_segment_distance(p, a[:2], b[:2])
-        for a, b in zip(el.points, el.points[1:], strict=False)
-    ]
+    ds = [ca_point_segment_distance(p, a[:2], b[:2]) for a, b in zip(el.points, el.points[1:], strict=False)]
     out = ds[0]
     for d in ds[1:]:
         out = ca.fmin(out, d)

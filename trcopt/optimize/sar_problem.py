@@ -82,9 +82,7 @@ class SarGeometry:
         c1 = (self.p3c[0], self.p3c[1], self.p1[2])
         c2 = (self.p3c[0], self.p3c[1], self.p2[2])
         pts = [self.p0, c1, c2, self.p3c]
-        els: list[Line | Arc] = [
-            Line(a, b) for a, b in zip(pts, pts[1:], strict=False) if math.dist(a, b) > 1e-12
-        ]
+        els: list[Line | Arc] = [Line(a, b) for a, b in zip(pts, pts[1:], strict=False) if math.dist(a, b) > 1e-12]
         if not self.contour.is_approach:
             els = [e.reversed() for e in reversed(els)]
             return [self.lead_element(), *els]
@@ -94,9 +92,7 @@ class SarGeometry:
 def _unit(t: tuple[float, float]) -> Vec2:
     n = math.hypot(t[0], t[1])
     if n == 0.0:
-        raise GeometryError(
-            "SAR tangent at P4 has zero length (alarm 10744: no direction derivable)"
-        )
+        raise GeometryError("SAR tangent at P4 has zero length (alarm 10744: no direction derivable)")
     return (t[0] / n, t[1] / n)
 
 
@@ -195,9 +191,7 @@ class SarProblem:
             "P3c": opti.variable(2),
             "P4c": opti.variable(2),
         }
-        P1, P2, P3, M, rho, P3c, P4c = (
-            V[k] for k in ("P1", "P2", "P3", "M", "rho_p", "P3c", "P4c")
-        )
+        P1, P2, P3, M, rho, P3c, P4c = (V[k] for k in ("P1", "P2", "P3", "M", "rho_p", "P3c", "P4c"))
         p0 = ca.DM(self.p0)
         p4 = ca.DM(self.p4)
         p4u = p4[:2]
@@ -273,7 +267,7 @@ class SarProblem:
                 g["levels"].append(P3[2] - w4)
         # no reversal of the infeed axis: w1 → w2 → w3 → w4 monotonic, direction from w1 to w4
         direction = 1.0 if w4 >= self._w1_value() else -1.0
-        ws = [P1[2], P2[2], P3[2], w4]
+        ws: list[Any] = [P1[2], P2[2], P3[2], w4]
         for i in range(3):
             ineq["no_reversal"].append(direction * (ws[i + 1] - ws[i]))
 
@@ -324,9 +318,7 @@ class SarProblem:
             "P4c": [self.p4[0] + 13.0, self.p4[1] - 17.0],
         }
 
-    def solve(
-        self, initial: dict[str, Any] | None = None, tol: float = 1e-12
-    ) -> Solution[SarGeometry]:
+    def solve(self, initial: dict[str, Any] | None = None, tol: float = 1e-12) -> Solution[SarGeometry]:
         """Solve with IPOPT from ``initial`` (default: :meth:`poor_start`).
 
         When IPOPT finds no feasible point, the problem is solved again with the equality
@@ -350,9 +342,7 @@ class SarProblem:
             )
         return sol
 
-    def _solve(
-        self, base: Any, initial: dict[str, Any] | None, tol: float
-    ) -> Solution[SarGeometry]:
+    def _solve(self, base: Any, initial: dict[str, Any] | None, tol: float) -> Solution[SarGeometry]:
         opti = base.copy()
         start = self.poor_start() if initial is None else initial
         for k, v in start.items():
@@ -373,22 +363,16 @@ class SarProblem:
         if status is not SolveStatus.OPTIMAL and "Infeasible" in message:
             status = SolveStatus.INFEASIBLE
         violation = {
-            name: max(
-                (float(np.max(np.abs(np.asarray(val(e), float)))) for e in exprs), default=0.0
-            )
+            name: max((float(np.max(np.abs(np.asarray(val(e), float)))) for e in exprs), default=0.0)
             for name, exprs in self.groups.items()
         }
         for name, exprs in self._ineq.items():
-            worst = max(
-                (max(0.0, -float(np.min(np.asarray(val(e), float)))) for e in exprs), default=0.0
-            )
+            worst = max((max(0.0, -float(np.min(np.asarray(val(e), float)))) for e in exprs), default=0.0)
             violation[name] = max(violation.get(name, 0.0), worst)
         geom = self._decode(val)
         if status is SolveStatus.OPTIMAL and max(violation.values()) > 1e-7:
             status = SolveStatus.FAILED
-        return Solution(
-            status, 0.0, int(stats.get("iter_count", 0)), elapsed, geom, violation, message
-        )
+        return Solution(status, 0.0, int(stats.get("iter_count", 0)), elapsed, geom, violation, message)
 
     def _decode(self, val: Any) -> SarGeometry:
         V = self.variables

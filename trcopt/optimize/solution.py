@@ -66,8 +66,7 @@ class Solution(Generic[G]):
         name = self.binding or "unknown"
         worst = self.constraint_violation.get(name, float("nan"))
         raise SolverError(
-            f"{self.solver} {self.status.value} ({self.message}): binding constraint '{name}' "
-            f"violated by {worst:.6g}",
+            f"{self.solver} {self.status.value} ({self.message}): binding constraint '{name}' violated by {worst:.6g}",
             code="SOLVER-INFEASIBLE" if self.status is SolveStatus.INFEASIBLE else "SOLVER",
         )
 

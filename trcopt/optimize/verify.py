@@ -105,11 +105,7 @@ class VerificationReport:
 
     @property
     def failed(self) -> list[FamilyResidual]:
-        return [
-            f
-            for f in self.families.values()
-            if f.max_residual > self.tolerance and f.name not in INFORMATIONAL
-        ]
+        return [f for f in self.families.values() if f.max_residual > self.tolerance and f.name not in INFORMATIONAL]
 
     def max_residual(self, family: str) -> float:
         return self.families[family].max_residual
@@ -130,7 +126,8 @@ class VerificationReport:
         if self.ok:
             return head + " — ok"
         bad = "; ".join(
-            f"{f.name} violated by {f.max_residual:.6g}{' ' + f.unit if f.unit else ''} at {f.block or f'line {f.line}'} (segment {f.segment})"
+            f"{f.name} violated by {f.max_residual:.6g}{' ' + f.unit if f.unit else ''} "
+            f"at {f.block or f'line {f.line}'} (segment {f.segment})"
             for f in self.failed
         )
         return head + " — FAILED: " + bad
@@ -220,11 +217,7 @@ def verify_plan(
     # the part contour: programmed elements of the blocks whose tool-centre path is a compensated
     # contour (whatever their motion type), plus blocks in between without any tool-centre
     # segment (omitted by collision detection)
-    comp = [
-        k
-        for k, s in enumerate(toolpath)
-        if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)
-    ]
+    comp = [k for k, s in enumerate(toolpath) if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)]
     on_lines = {toolpath[k].span.line for k in comp}
     lo, hi = (min(on_lines), max(on_lines)) if on_lines else (1, 0)
     tool_lines = {s.span.line for s in toolpath}
@@ -232,14 +225,13 @@ def verify_plan(
     part = [
         p
         for p in programmed
-        if p.span.line in part_lines
-        and p.role in (Role.CONTOUR, Role.RAPID)
-        and p.geometry.plane_length > 0.0
+        if p.span.line in part_lines and p.role in (Role.CONTOUR, Role.RAPID) and p.geometry.plane_length > 0.0
     ]
     prog_by_line: dict[int, list[Segment]] = {}
     for p in part:
         prog_by_line.setdefault(p.span.line, []).append(p)
-    vertices = np.array([p.geometry.start[:2] for p in part] or [[math.inf] * 2])
+    starts: list[Any] = [p.geometry.start[:2] for p in part]
+    vertices = np.array(starts or [[math.inf, math.inf]])
     boxes = np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4))
 
     # ---- radius (contact) and element direction -------------------------------------------
@@ -249,11 +241,7 @@ def verify_plan(
             continue
         R = seg.radius
         if seg.role is Role.CONTOUR and isinstance(g, (Line, Arc)):
-            cands = [
-                p.geometry
-                for p in prog_by_line.get(seg.span.line, [])
-                if isinstance(p.geometry, (Line, Arc))
-            ]
+            cands = [p.geometry for p in prog_by_line.get(seg.span.line, []) if isinstance(p.geometry, (Line, Arc))]
             if not cands:
                 continue
             side = seg.side.sign
@@ -261,13 +249,9 @@ def verify_plan(
                 cands,
                 key=lambda pg: carrier_residual(g, pg, R) + abs(_signed_offset(seg, pg) - side * R),
             )
-            fam["radius"].add(
-                carrier_residual(g, best, R) + abs(_signed_offset(seg, best) - side * R), k, seg
-            )
+            fam["radius"].add(carrier_residual(g, best, R) + abs(_signed_offset(seg, best) - side * R), k, seg)
             p0 = g.point2(0.0)
-            fam["tangency"].add(
-                tangency_residual(g.start_tangent(), _programmed_tangent_at(best, p0)), k, seg
-            )
+            fam["tangency"].add(tangency_residual(g.start_tangent(), _programmed_tangent_at(best, p0)), k, seg)
         elif isinstance(g, Line) and seg.role in (Role.APPROACH, Role.RETRACT):
             # SAR G147/G148: the lead line touching the contour has plane length L = DISR + R
             sar = _sar_for(seg.span.line, specs, seg.role)
@@ -280,16 +264,10 @@ def verify_plan(
         elif isinstance(g, Arc):
             c = np.array(g.center)
             dv = float(np.min(np.hypot(*(vertices - c).T)))
-            sar = (
-                _sar_for(seg.span.line, specs)
-                if seg.role in (Role.APPROACH, Role.RETRACT)
-                else None
-            )
+            sar = _sar_for(seg.span.line, specs) if seg.role in (Role.APPROACH, Role.RETRACT) else None
             if seg.role is Role.CORNER or dv <= 1e-6:
                 fam["radius"].add(dv + abs(g.radius - R), k, seg)
-            elif (
-                sar is not None and sar.disr is not None and not sar.contour.value.startswith("G14")
-            ):
+            elif sar is not None and sar.disr is not None and not sar.contour.value.startswith("G14"):
                 fam["radius"].add(abs(g.radius - sar.disr), k, seg)
 
     # ---- joints: continuity and tangency ---------------------------------------------------
@@ -318,9 +296,9 @@ def verify_plan(
             pb = [p.geometry for p in prog_by_line.get(b.span.line, [])]
             if pa and pb:
                 ta, tb = pa[-1].end_tangent(), pb[0].start_tangent()
-                required = abs(
-                    math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
-                ) <= (_TANGENT_PROGRAMMED_RAD)
+                required = abs(math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])) <= (
+                    _TANGENT_PROGRAMMED_RAD
+                )
         if required:
             fam["tangency"].add(tangency_residual(ga.end_tangent(), gb.start_tangent()), k + 1, b)
 
@@ -340,9 +318,7 @@ def verify_plan(
                 idx.append(j)
             ws = [toolpath[i].geometry.end[2] for i in idx]  # from P1 on
         else:
-            ws = [toolpath[idx[0]].geometry.start[2]] + [
-                toolpath[i].geometry.end[2] for i in idx[:-1]
-            ]
+            ws = [toolpath[idx[0]].geometry.start[2]] + [toolpath[i].geometry.end[2] for i in idx[:-1]]
         used.update(idx)
         fam["no_reversal"].add(reversal_residual(ws), idx[0], toolpath[idx[0]])
     k = 0
@@ -354,35 +330,25 @@ def verify_plan(
         j = k
         while j + 1 < len(toolpath) and toolpath[j + 1].role is role and j + 1 not in used:
             j += 1
-        ws = [toolpath[k].geometry.start[2]] + [
-            toolpath[i].geometry.end[2] for i in range(k, j + 1)
-        ]
+        ws = [toolpath[k].geometry.start[2]] + [toolpath[i].geometry.end[2] for i in range(k, j + 1)]
         fam["no_reversal"].add(reversal_residual(ws), k, toolpath[k])
         k = j + 1
 
     # ---- clearance from the whole programmed contour (no gouge) ---------------------------
     for k, seg in enumerate(toolpath):
         g = seg.geometry
-        if (
-            seg.radius <= 0.0
-            or g.plane_length <= 0.0
-            or seg.role not in _COMPENSATED_ROLES
-            or not part
-        ):
+        if seg.radius <= 0.0 or g.plane_length <= 0.0 or seg.role not in _COMPENSATED_ROLES or not part:
             continue
         R = seg.radius
-        b = bbox(g)
+        box = bbox(g)
         near = np.nonzero(
-            (boxes[:, 0] <= b[2] + R)
-            & (boxes[:, 2] >= b[0] - R)
-            & (boxes[:, 1] <= b[3] + R)
-            & (boxes[:, 3] >= b[1] - R)
+            (boxes[:, 0] <= box[2] + R)
+            & (boxes[:, 2] >= box[0] - R)
+            & (boxes[:, 1] <= box[3] + R)
+            & (boxes[:, 3] >= box[1] - R)
         )[0]
         d = min((element_distance(g, part[i].geometry)[0] for i in near), default=math.inf)
-        lead = (
-            seg.role in (Role.APPROACH, Role.RETRACT)
-            and _sar_for(seg.span.line, specs, seg.role) is None
-        )
+        lead = seg.role in (Role.APPROACH, Role.RETRACT) and _sar_for(seg.span.line, specs, seg.role) is None
         fam["lead_clearance" if lead else "clearance"].add(max(0.0, R - d), k, seg)
 
     if settings is not None and getattr(settings, "wab_clearance_tolerance_mm", None) is not None:
