@@ -74,14 +74,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _extra_commands() -> list[Callable[[argparse._SubParsersAction], None]]:  # type: ignore[type-arg]
     """Subcommands owned by other modules (imported lazily, registered if present)."""
-    out = []
-    try:
-        from .kinematics.cli import register as register_orient
+    from .kinematics.cli import register as register_orient
+    from .optimize.cli import register as register_leadin
 
-        out.append(register_orient)
-    except ImportError:
-        pass
-    return out
+    return [register_orient, register_leadin]
 
 
 def _err(message: str) -> None:

@@ -40,6 +40,9 @@ class PlanOptions:
         Axis limits for the timing stage (the embedded default machine when omitted).
     timing:
         Compute the time-optimal feed profile and cycle time.
+    verify:
+        Check the tool-centre path against the constraint model (radius, tangency, continuity,
+        no reversal of the infeed, clearance) and report the largest residual of each family.
     strict:
         Treat possible contour violations (CDOF reversed elements) as alarm 10751.
     tool_table, tool_unit:
@@ -52,6 +55,7 @@ class PlanOptions:
     settings: TrcSettings = field(default_factory=TrcSettings)
     machine: Machine = DEFAULT_MACHINE
     timing: bool = True
+    verify: bool = True
     strict: bool = False
     tool_table: str | None = None
     tool_unit: str = "inch"
@@ -69,6 +73,7 @@ class PlanResult:
     diagnostics: list[Diagnostic]
     timing: Any = None  # trcopt.timing.TimedTrajectory when computed
     extra: dict[str, Any] = field(default_factory=dict)
+    verification: Any = None  # trcopt.optimize.VerificationReport when computed
 
     @property
     def ok(self) -> bool:
@@ -121,6 +126,11 @@ class PlanResult:
         ]
         if self.duration is not None:
             lines.append(f"cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
+        if self.verification is not None:
+            lines.append(self.verification.summary_line())
+            note = self.verification.lead_note()
+            if note:
+                lines.append(note)
         n_err, n_warn = len(self.errors), len(self.warnings)
         lines.append(f"{n_err} alarm(s), {n_warn} warning(s)" + ("" if self.ok else " — stopped at the alarm"))
         return "\n".join(lines)
@@ -183,6 +193,11 @@ def plan(
     result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
     result.extra["profile"] = profile
     _attach_toolholder(result)
+    if opts.verify:
+        from .optimize.verify import verify_plan
+
+        result.verification = verify_plan(programmed, toolpath, moves, settings)
+        result.extra["verification"] = result.verification.to_json()
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine)
     return result

@@ -35,7 +35,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--json", dest="json_out", help="write the result as JSON")
     p.add_argument("--gcode", dest="gcode_out", help="write the lead as G-code")
     p.add_argument("--svg", dest="svg_out", help="write a picture of the lead and the SAR defaults")
-    p.set_defaults(func=run_leadin)
+    p.set_defaults(func=run_leadin, handler=run_leadin)
     return p
 
 
