@@ -357,7 +357,15 @@ class Compensator:
             return self._search_beyond(win, i, chain, pending, reason="degenerate")
         kind, delta = cn.classify(a, b, self.settings)
         if kind is cn.JunctionKind.TANGENTIAL:
-            return _Join(i + 1, [Piece(b, b.role, 0.0, 1.0)])
+            # the offsets meet within the coincidence tolerance: a straight side takes the other's
+            # end point, so the path has no gap at all (only arc-to-arc joints keep theirs, ≤ 1 µm)
+            nxt = Piece(b, b.role, 0.0, 1.0)
+            last = chain[-1]
+            if isinstance(b.prog, Line):
+                nxt.p0 = last.end_point()
+            elif last.main and isinstance(a.prog, Line) and last.lam1 == 1.0:
+                last.p1 = b.off_start.point2(0.0)
+            return _Join(i + 1, [nxt])
         if kind is cn.JunctionKind.OUTSIDE:
             mode, disc = cn.corner_mode_for(a, b)
             out = cn.outside_corner(a, b, delta, self.settings, mode, disc)
