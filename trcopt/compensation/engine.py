@@ -357,10 +357,16 @@ class Compensator:
             return self._search_beyond(win, i, chain, pending, reason="degenerate")
         kind, delta = cn.classify(a, b, self.settings)
         if kind is cn.JunctionKind.TANGENTIAL:
-            # the offsets meet within the coincidence tolerance: a straight side takes the other's
-            # end point, so the path has no gap at all (only arc-to-arc joints keep theirs, ≤ 1 µm)
-            nxt = Piece(b, b.role, 0.0, 1.0)
+            # the offsets meet within the coincidence tolerance: join them at their intersection
+            # next to the joint; without one (exactly parallel), a straight side takes the other's
+            # end point, so the path has no gap (only an arc-to-arc joint keeps its ≤ 1 µm)
             last = chain[-1]
+            joint = last.end_point()
+            near = [h for h in intersections(a.off_end, b.off_start) if vec.dist(h.point, joint) <= 10 * self.tol]
+            if near and last.main:
+                best = min(near, key=lambda h: vec.dist(h.point, joint))
+                return _Join(i + 1, [Piece(b, b.role, best.lam_b, 1.0)], end=(len(chain) - 1, best.lam_a))
+            nxt = Piece(b, b.role, 0.0, 1.0)
             if isinstance(b.prog, Line):
                 nxt.p0 = last.end_point()
             elif last.main and isinstance(a.prog, Line) and last.lam1 == 1.0:
