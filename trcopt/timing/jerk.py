@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import csv
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -388,9 +388,19 @@ def jerk_limited(
     solutions, problems = [], []
     for sec in sections:
         label = section_label(segments, sec)
-        pb = JerkProblem(sec, arrays, feeds, vmax, amax, jmax, base.s, base.sd, cycle_s=cycle_s, points=points,
-                         label=f" ({label})")
-        sol = pb.solve()
+        # IPOPT may stop at a local infeasibility from a poor start: retry from a slower warm start,
+        # then on a finer grid, before reporting the section
+        nseg = sec.last - sec.first + 1
+        n0 = points if points is not None else min(60 + 30 * nseg, 600)
+        spent = 0.0
+        for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
+            pb = JerkProblem(sec, arrays, feeds, vmax, amax, jmax, base.s, base.sd, cycle_s=cycle_s, points=n_pts,
+                             label=f" ({label})", init_scale=scale)
+            sol = pb.solve()
+            spent += sol.solve_time_s
+            if sol.ok:
+                break
+        sol = replace(sol, solve_time_s=spent)
         if not sol.ok:
             worst = sol.binding or "dynamics_mm"
             raise TimingError(

@@ -50,7 +50,8 @@ __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 
 DTHETA_JERK = 0.05  # rad, largest arc angle per interval
 ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
-CURVATURE_JUMP_TOL = 1e-9  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
+CURVATURE_JUMP_TOL = 1e-9
+RAMP_WEIGHT = 4.0  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
 
 
 def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -125,7 +126,14 @@ class JerkProblem:
         Interpolation cycle T_c (s) in which a curvature-jump acceleration step must be absorbed.
     points:
         Target number of intervals (before the per-arc minimum of ``|sweep|/DTHETA_JERK``).
+    init_scale:
+        The warm start is this fraction of the estimated speed.
     """
+
+    #: IPOPT options (silent); override per instance or class to experiment
+    ipopt_options: dict[str, Any] = {
+        "print_level": 0, "sb": "yes", "tol": 1e-9, "acceptable_tol": 1e-6, "max_iter": 3000, "mu_strategy": "adaptive",
+    }
 
     def __init__(
         self,
@@ -141,6 +149,7 @@ class JerkProblem:
         cycle_s: float = 1e-3,
         points: int | None = None,
         label: str = "",
+        init_scale: float = 0.95,
     ) -> None:
         self.section = section
         self.arrays = arrays
@@ -148,6 +157,7 @@ class JerkProblem:
         self.vmax, self.amax, self.jmax = vmax, amax, jmax
         self.cycle_s = cycle_s
         self.label = label
+        self.init_scale = init_scale
         nseg = section.last - section.first + 1
         self.points = points if points is not None else min(60 + 30 * nseg, 600)
         self._opti: Any = None
@@ -189,7 +199,10 @@ class JerkProblem:
             v = np.maximum(v, 1e-6 * max(float(self.feeds[k]), 1.0))
             fines.append(loc)
             vcaps.append(v)
-            taus.append(ar.length[k] / fine_n / v)
+            # measure = time + RAMP_WEIGHT × time spent changing speed: ramps get their share of
+            # nodes even on long feed-limited runs
+            dv = np.abs(np.diff(np.concatenate(([v[0]], v))))
+            taus.append(ar.length[k] / fine_n / v + RAMP_WEIGHT * dv / amin)
         tau_seg = np.array([t.sum() for t in taus])
         total = float(tau_seg.sum())
         s_nodes, iseg = [np.array([sec.s_start])], []
@@ -239,7 +252,7 @@ class JerkProblem:
         v0 = np.minimum(np.interp(self.s, np.concatenate([sec_f + ar.start[k] for sec_f, k in zip(fines, segs, strict=True)]),
                                   np.concatenate(vcaps)), cap)
         v0[0] = v0[-1] = 0.0
-        self.v_init = 0.95 * v0
+        self.v_init = self.init_scale * v0
         self.axes_used = np.nonzero((np.abs(self.dl[0]) + np.abs(self.dr[0]) + np.abs(self.dl[1]) + np.abs(self.dr[1])).max(axis=0) > 1e-12)[0]
 
     @property
@@ -270,10 +283,12 @@ class JerkProblem:
         self.aref = float(self.amax.min())
         self.jref = float(self.jmax.min())
         self.href = max(float(guess["h"].sum()) / n, 1e-6)
-        V, A, H, Jp = opti.variable(n + 1), opti.variable(n), opti.variable(n), opti.variable(n)
-        # A holds a_1..a_N-1 and a_N = 0: store n values for a_0..a_{n-1}, a_0 fixed by bound
+        # A holds the interior accelerations a_1..a_{N-1}; a_0 = a_N = 0 (rest at both ends)
+        # and V the interior speeds v_1..v_{N-1}; v_0 = v_N = 0
+        Vi, A, H, Jp = opti.variable(n - 1), opti.variable(n - 1), opti.variable(n), opti.variable(n)
+        V = ca.vertcat(0, Vi, 0)
         v = self.vref * V
-        a_all = ca.vertcat(self.aref * A, 0)
+        a_all = ca.vertcat(0, self.aref * A, 0)
         h = self.href * H
         jj = self.jref * Jp
         v0, v1 = v[:-1], v[1:]
@@ -283,11 +298,10 @@ class JerkProblem:
         opti.subject_to((v0 + a0 * h + jj * h**2 / 2 - v1) / self.vref == 0)
         opti.subject_to((a0 + jj * h - a1) / self.aref == 0)
         cap = np.where(np.isfinite(self.vcap), self.vcap, 1e6) / self.vref
-        opti.subject_to(opti.bounded(0, V, ca.DM(cap)))
+        opti.subject_to(opti.bounded(0, Vi, ca.DM(cap[1:-1])))
         # ṡ is quadratic in t on an interval; its middle Bernstein coefficient v_i + a_i h/2 bounds it
         # from above (convex hull), so the speed caps hold inside the interval as well
         opti.subject_to((v0 + a0 * h / 2) / self.vref <= ca.DM(self.icap / self.vref))
-        opti.subject_to(A[0] == 0)
         opti.subject_to(H >= 1e-9)
         for k in self.axes_used:
             lim_a = ca.DM(self.tighten * ACC_MARGIN)
@@ -296,20 +310,57 @@ class JerkProblem:
                 jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
                 opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
                 opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
+        self._arc_midpoint_rows(opti, ca, v0, a0, h, jj)
         opti.minimize(ca.sum1(H) / n)
-        opti.set_initial(V, guess["v"] / self.vref)
-        opti.set_initial(A, guess["a"][:-1] / self.aref)
+        opti.set_initial(Vi, guess["v"][1:-1] / self.vref)
+        opti.set_initial(A, guess["a"][1:-1] / self.aref)
         opti.set_initial(H, guess["h"] / self.href)
         opti.set_initial(Jp, guess["j"] / self.jref)
         opti.solver(
             "ipopt",
             {"expand": True, "print_time": False, "error_on_fail": False},
-            {"print_level": 0, "sb": "yes", "tol": 1e-9, "acceptable_tol": 1e-6, "max_iter": 3000,
-             "mu_strategy": "adaptive"},
+            dict(self.ipopt_options),
         )
         self._opti = opti
-        self._vars = {"V": V, "A": A, "H": H, "J": Jp}
+        self._vars = {"V": Vi, "A": A, "H": H, "J": Jp}
         return opti
+
+    def _arc_midpoint_rows(self, opti: Any, ca: Any, v0: Any, a0: Any, h: Any, jj: Any) -> None:
+        """Acceleration and jerk rows at the time midpoint of every arc interval.
+
+        On an arc the axis projections rotate and ``ṡ²`` bulges inside an interval, so the end
+        rows alone can be exceeded in between; the midpoint position ``s_i + v h/2 + a h²/8 + j h³/48``
+        enters the closed-form q′, q″, q‴ symbolically.
+        """
+        ar = self.arrays
+        idx = np.nonzero(ar.kind[self.iseg] == 1)[0]
+        if idx.shape[0] == 0:
+            return
+        seg = self.iseg[idx]
+        r, a0c, da, dw = ar.arc[seg, 2], ar.arc[seg, 3], ar.arc[seg, 4], ar.arc[seg, 6]
+        lo = self.s[idx] - ar.start[seg]
+        rows = [int(i) for i in idx]
+        v, a, hh, j = v0[rows], a0[rows], h[rows], jj[rows]
+        sdd = a + j * hh / 2
+        sd = v + a * hh / 2 + j * hh**2 / 8
+        sig = v * hh / 2 + a * hh**2 / 8 + j * hh**3 / 48
+        th = ca.DM(a0c + da * lo) + ca.DM(da) * sig
+        c, sn = ca.cos(th), ca.sin(th)
+        R, D = ca.DM(r), ca.DM(da)
+        uvw1 = (-R * D * sn, R * D * c, ca.DM(dw))
+        uvw2 = (-R * D**2 * c, -R * D**2 * sn, ca.DM.zeros(idx.shape[0]))
+        uvw3 = (R * D**3 * sn, -R * D**3 * c, ca.DM.zeros(idx.shape[0]))
+        perm = ar.perm[seg]
+        for k in self.axes_used:
+            for comp in range(3):
+                m = perm[:, comp] == k
+                if not np.any(m):
+                    continue
+                mask = ca.DM(m.astype(float))
+                acc = mask * (uvw1[comp] * sdd + uvw2[comp] * sd**2) / self.amax[k]
+                jerk = mask * (uvw3[comp] * sd**3 + 3 * uvw2[comp] * sd * sdd + uvw1[comp] * j) / self.jmax[k]
+                opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
+                opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
 
     @property
     def opti(self) -> Any:
@@ -317,7 +368,7 @@ class JerkProblem:
 
     @property
     def variables(self) -> dict[str, Any]:
-        """Scaled decision variables: V = v/vref, A = a/aref, H = h/href, J = j/jref."""
+        """Scaled decision variables: V = v/vref and A = a/aref at interior nodes, H = h/href, J = j/jref."""
         self.build()
         return dict(self._vars)
 
@@ -329,13 +380,16 @@ class JerkProblem:
             sol = opti.solve()
             val = sol.value
             stats = sol.stats()
-        except RuntimeError as exc:  # casadi raises on some failures even with error_on_fail False
+        except RuntimeError as exc:  # Opti raises on a failed solve; keep the last iterate
             val = opti.debug.value
-            stats = {"return_status": str(exc), "iter_count": -1}
+            try:
+                stats = opti.stats()
+            except RuntimeError:
+                stats = {"return_status": str(exc).strip().splitlines()[-1], "iter_count": -1}
         wall = time.perf_counter() - t0
         V, A, H, Jp = (np.atleast_1d(np.asarray(val(self._vars[k]), dtype=float)).ravel() for k in ("V", "A", "H", "J"))
         prof = SectionProfile(
-            self.s.copy(), np.maximum(V * self.vref, 0.0), np.append(A * self.aref, 0.0), H * self.href, Jp * self.jref,
+            self.s.copy(), np.concatenate(([0.0], np.maximum(V * self.vref, 0.0), [0.0])), np.concatenate(([0.0], A * self.aref, [0.0])), H * self.href, Jp * self.jref,
             self.iseg.copy(),
         )
         viol = self.violations(prof)
