@@ -4,7 +4,7 @@ For every golden problem that plans without alarm and has a compensated contour,
 (trcopt.optimize.optimal_lead: start point = tool position before TRC activation, the program's
 R, side and feed, rho_min = 3 mm, safety = 1 mm, embedded machine) is compared with G147, G247
 and G347 with default parameters (DISR = max(rho_min, R), DISCL = 0, G340, G140; see
-trcopt/optimize/leadout.py). Time = traverse time of lead + first contour element from the timing
+trcopt/optimize/lead_io.py). Time = traverse time of lead + first contour element from the timing
 stage (same objective for all). Ratios < 1 mean the optimum is faster / shorter. A SAR default
 that gouges (clearance < R + safety away from P4, or < R anywhere) is marked with '!'.
 
@@ -21,7 +21,7 @@ from trcopt.config import DEFAULT_MACHINE
 from trcopt.errors import TrcoptError
 from trcopt.optimize.cli import lead_inputs_from_plan
 from trcopt.optimize.leadin import optimal_lead
-from trcopt.optimize.leadout import compare_with_sar
+from trcopt.optimize.lead_io import compare_with_sar
 from trcopt.pipeline import PlanOptions, plan_file
 
 ROOT = Path(__file__).resolve().parents[1] / "problems"

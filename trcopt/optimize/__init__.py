@@ -4,7 +4,7 @@
   no_reversal, clearance; lead_clearance informational);
 * :class:`SarProblem` — SINUMERIK SAR geometry as a ``casadi.Opti`` problem;
 * :func:`optimal_lead` — time-optimal lead-in under the constraint model; :func:`leadin_gcode`,
-  :func:`compare_with_sar`;
+  :func:`compare_with_sar`; :func:`optimal_lead_out` — the lead-out (the mirrored lead-in);
 * :func:`register` / :func:`run_leadin` — the ``trcopt leadin`` subcommand.
 
 CasADi is imported inside the functions that build problems, so importing this package is cheap.
@@ -14,7 +14,8 @@ from __future__ import annotations
 
 from .cli import register, run_leadin
 from .leadin import LeadCandidate, LeadResult, SarShape, optimal_lead
-from .leadout import Baseline, compare_with_sar, leadin_gcode, leadin_svg
+from .leadout import LeadOutResult, optimal_lead_out
+from .lead_io import Baseline, compare_with_sar, leadin_gcode, leadin_svg
 from .sar_problem import SarGeometry, SarProblem
 from .solution import Solution, SolveStatus
 from .verify import FamilyResidual, VerificationReport, verify_plan
@@ -23,6 +24,7 @@ __all__ = [
     "Baseline",
     "FamilyResidual",
     "LeadCandidate",
+    "LeadOutResult",
     "LeadResult",
     "SarGeometry",
     "SarProblem",
@@ -34,6 +36,7 @@ __all__ = [
     "leadin_gcode",
     "leadin_svg",
     "optimal_lead",
+    "optimal_lead_out",
     "register",
     "run_leadin",
     "verify_plan",

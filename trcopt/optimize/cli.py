@@ -35,6 +35,10 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--json", dest="json_out", help="write the result as JSON")
     p.add_argument("--gcode", dest="gcode_out", help="write the lead as G-code")
     p.add_argument("--svg", dest="svg_out", help="write a picture of the lead and the SAR defaults")
+    p.add_argument(
+        "--out", action="store_true",
+        help="plan the lead-out instead: from the contour end to the end point of the deselection block",
+    )
     p.set_defaults(func=run_leadin, handler=run_leadin)
     return p
 
@@ -81,8 +85,10 @@ def lead_inputs_from_plan(result: Any) -> dict[str, Any]:
         and p.geometry.plane_length > 0.0
     ]
     feed = next((s.feed_mm_s for s in tp[k:] if s.feed_mm_s), None) or 10.0
+    last = max(i for i, s in enumerate(tp) if s.radius > 0.0)
     return {
         "start": start,
+        "end": tp[last].geometry.end,
         "contour": contour,
         "radius": first.radius,
         "side": first.side,
@@ -97,7 +103,7 @@ def run_leadin(args: argparse.Namespace) -> int:
     from ..errors import SolverError, TrcoptError
     from ..pipeline import PlanOptions, plan_file
     from .leadin import optimal_lead
-    from .leadout import compare_with_sar, leadin_gcode, leadin_svg
+    from .lead_io import compare_with_sar, leadin_gcode, leadin_svg
 
     try:
         machine = load_machine(args.machine) if getattr(args, "machine", None) else DEFAULT_MACHINE
@@ -112,6 +118,8 @@ def run_leadin(args: argparse.Namespace) -> int:
             return 1
         inputs = lead_inputs_from_plan(res)
         side = args.side or inputs["side"]
+        if getattr(args, "out", False):
+            return _run_leadout(args, inputs, side, region, machine)
         lead = optimal_lead(
             inputs["start"],
             inputs["contour"],
@@ -160,6 +168,55 @@ def run_leadin(args: argparse.Namespace) -> int:
             Path(args.gcode_out).write_text(leadin_gcode(lead, args.program))
         if args.svg_out:
             Path(args.svg_out).write_text(leadin_svg(lead, inputs["contour"], baselines))
+    except OSError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _run_leadout(args: argparse.Namespace, inputs: dict, side: object, region: object, machine: object) -> int:
+    """``trcopt leadin --out``: the optimal lead-out, written as explicit tool-centre moves."""
+    from ..errors import SolverError, TrcoptError
+    from ..io import toolpath_to_gcode
+    from ..io.svg import render_svg
+    from .leadout import optimal_lead_out
+
+    try:
+        lead = optimal_lead_out(
+            inputs["end"],
+            inputs["contour"],
+            inputs["radius"],
+            side,  # type: ignore[arg-type]
+            rho_min=args.rho_min,
+            safety=args.safety,
+            region=region,  # type: ignore[arg-type]
+            machine=machine,  # type: ignore[arg-type]
+            feed_mm_s=inputs["feed_mm_s"],
+            plane=inputs["plane"],
+        )
+    except SolverError as exc:
+        print(f"error: {args.program}: {exc}", file=sys.stderr)
+        return 1
+    except (TrcoptError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    print(
+        f"{args.program}: optimal lead-out {lead.kind}, length {lead.length:.3f} mm, "
+        f"{lead.objective} {lead.time_s:.4f}, min clearance {lead.mirrored.best.min_clearance:.3f} mm"
+    )
+    try:
+        if args.json_out:
+            out = lead.to_json()
+            out["program"] = args.program
+            Path(args.json_out).write_text(json.dumps(out, indent=1))
+        if args.gcode_out:
+            Path(args.gcode_out).write_text(toolpath_to_gcode(lead.segments, program_name=f"lead-out of {args.program}"))
+        if args.svg_out:
+            from ..path import Role, Segment
+            from ..errors import SourceSpan
+
+            contour = [Segment(e, inputs["plane"], Role.CONTOUR, SourceSpan(), None) for e in inputs["contour"]]
+            Path(args.svg_out).write_text(render_svg(contour, lead.segments, title=f"lead-out: {args.program}"))
     except OSError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
