@@ -138,6 +138,27 @@ class _Expander:
         self.restart = (new_front, new_actual) if differs else None  # type: ignore[assignment]
         return replace(m, start=actual, end=end)  # type: ignore[arg-type]
 
+    def _points(
+        self, sar: Move, p0: Vec3, p4: Vec3, t: Vec2, s: int, r: float, end_mode: RetractEnd = RetractEnd.PROGRAMMED
+    ) -> SarGeometry:
+        """The analytic SAR construction of block ``sar``; its alarm stops the expansion."""
+        assert sar.sar is not None
+        try:
+            return sar_points(
+                sar.sar,
+                p0=p0,
+                p4=p4,
+                tangent=t,
+                comp_side=s,
+                radius=r,
+                retract_end=end_mode,
+                clearance_tolerance=self.settings.wab_clearance_tolerance_mm,
+                span=sar.span,
+            )
+        except AlarmError as exc:
+            self.diagnostics.append(exc.diagnostic)
+            raise _Stop() from None
+
     def _plane_moving(self, m: Move) -> bool:
         if m.kind is MoveKind.NONE:
             return False
@@ -203,20 +224,7 @@ class _Expander:
         r = comp.effective_radius if s else 0.0
         p0 = plane.to_uvw(sar.start)
         p4 = plane.to_uvw(p4_block.end)
-        try:
-            geo = sar_points(
-                sar.sar,
-                p0=p0,
-                p4=p4,
-                tangent=t,
-                comp_side=s,
-                radius=r,
-                clearance_tolerance=self.settings.wab_clearance_tolerance_mm,
-                span=sar.span,
-            )
-        except AlarmError as exc:
-            self.diagnostics.append(exc.diagnostic)
-            raise _Stop() from None
+        geo = self._points(sar, p0, p4, t, s, r)
 
         # feeds (R43, §D-10a)
         before_feed = (
@@ -331,21 +339,7 @@ class _Expander:
         else:
             end_mode = RetractEnd.NONE
         p4 = plane.to_uvw(sar.start)
-        try:
-            geo = sar_points(
-                sar.sar,
-                p0=plane.to_uvw(sar.end),
-                p4=p4,
-                tangent=t,
-                comp_side=s,
-                radius=r,
-                retract_end=end_mode,
-                clearance_tolerance=self.settings.wab_clearance_tolerance_mm,
-                span=sar.span,
-            )
-        except AlarmError as exc:
-            self.diagnostics.append(exc.diagnostic)
-            raise _Stop() from None
+        geo = self._points(sar, plane.to_uvw(sar.end), p4, t, s, r, end_mode)
 
         # feeds (R44, §D-10): the old feed on the retraction contour, the SAR block's from P2 on
         old_feed = self.modal_feed
