@@ -51,7 +51,7 @@ __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 DTHETA_JERK = 0.05  # rad, largest arc angle per interval
 ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
 CURVATURE_JUMP_TOL = 1e-9
-RAMP_WEIGHT = 4.0  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
+RAMP_SHARE = 0.5  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
 
 
 def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -199,10 +199,13 @@ class JerkProblem:
             v = np.maximum(v, 1e-6 * max(float(self.feeds[k]), 1.0))
             fines.append(loc)
             vcaps.append(v)
-            # measure = time + RAMP_WEIGHT × time spent changing speed: ramps get their share of
-            # nodes even on long feed-limited runs
             dv = np.abs(np.diff(np.concatenate(([v[0]], v))))
-            taus.append(ar.length[k] / fine_n / v + RAMP_WEIGHT * dv / amin)
+            taus.append((ar.length[k] / fine_n / v, dv))
+        # measure = share of the estimated time + RAMP_SHARE × share of the speed changes: the ramps
+        # (where the jerk switches) get their nodes even on long feed-limited runs
+        t_tot = sum(float(t.sum()) for t, _ in taus)
+        r_tot = sum(float(r.sum()) for _, r in taus)
+        taus = [t / t_tot + (RAMP_SHARE * r / r_tot if r_tot > 0 else 0.0) for t, r in taus]
         tau_seg = np.array([t.sum() for t in taus])
         total = float(tau_seg.sum())
         s_nodes, iseg = [np.array([sec.s_start])], []
