@@ -1,0 +1,230 @@
+"""Jerk-limited feed benchmark (issue 6 part 2): families B1–B9 and the corner comparison.
+
+Run: ``python benchmarks/bench_jerk.py`` (``--big`` adds B9 with 1 000 segments, slow: about one
+IPOPT solve per section). Prints two markdown tables (see ``benchmarks/JERK.md``):
+
+1. per family: acceleration-limited optimum T_acc (``time_parameterize``), jerk-limited T_jerk
+   (``jerk_limited``), CTR = T_jerk/T_acc, the closed-form double-S reference on B1/B7, the jerk ratio
+   by the documented measure, the 1 kHz finite-difference jerk ratio, validity and wall time;
+2. corner-dense parts: exact stop vs same-ε circular blends vs optimal transitions
+   (``trcopt.optimize.corners.optimize_corners`` when it is importable and blends the corners) under
+   acceleration and jerk limits.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from timing_cases import ANISO, ISO, families, seg  # noqa: E402
+
+from trcopt import Arc, Line, Plane, Role, Segment, SourceSpan  # noqa: E402
+from trcopt.nc.model import Side  # noqa: E402
+from trcopt.timing import time_parameterize  # noqa: E402
+from trcopt.timing.doubles import double_s_polyline_time, double_s_time, line_limits  # noqa: E402
+from trcopt.timing.jerk import jerk_limited  # noqa: E402
+
+
+# -- references ------------------------------------------------------------------------------------
+def double_s_reference(fam: str, path: list[Segment], machine) -> float | None:
+    """Σ double-S on B1 (one line) and B7 (sharp polyline), else None."""
+    if fam not in ("B1", "B7"):
+        return None
+    pts = [path[0].geometry.start] + [s.geometry.end for s in path]
+    return double_s_polyline_time(pts, machine, float(path[0].feed_mm_s))
+
+
+def run_families(big: bool = False) -> list[dict]:
+    rows = []
+    for fam, case, path, _cf in families(big=big):
+        if fam == "B9" and "1000" in case and not big:
+            continue
+        for machine in (ISO, ANISO):
+            base = time_parameterize(path, machine)
+            t0 = time.perf_counter()
+            traj = jerk_limited(path, machine, base=base)
+            wall = time.perf_counter() - t0
+            rep = traj.check_limits(dt=1e-4)
+            ref = double_s_reference(fam, path, machine)
+            rows.append({
+                "family": fam, "case": case, "limits": machine.name[:5], "segments": len(path),
+                "sections": len(traj.sections), "T_acc": base.duration, "T_jerk": traj.duration,
+                "CTR": traj.duration / base.duration, "ref": ref, "vs_ref": None if ref is None else traj.duration / ref,
+                "jerk": max(rep.jerk_ratio), "jerk_knot": max(rep.jerk_knot_ratio), "fd1k": max(rep.jerk_fd_1khz_ratio),
+                "v": max(rep.v_ratio), "a": max(rep.a_ratio), "valid": rep.ok, "wall": wall,
+                "iters": traj.iterations,
+            })
+    return rows
+
+
+def families_table(rows: list[dict]) -> str:
+    out = [
+        "| family | case | limits | T_acc s | T_jerk s | CTR T_jerk/T_acc | Σ double-S s | T_jerk/ref | jerk ratio | of which knots | FD 1 kHz | v ratio | a ratio | valid | wall s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        ref = "" if r["ref"] is None else f"{r['ref']:.6f}"
+        vs = "" if r["vs_ref"] is None else f"{r['vs_ref']:.4f}"
+        out.append(
+            f"| {r['family']} | {r['case']} | {r['limits']} | {r['T_acc']:.6f} | {r['T_jerk']:.6f} | {r['CTR']:.4f} | {ref} | {vs} | "
+            f"{r['jerk']:.4f} | {r['jerk_knot']:.4f} | {r['fd1k']:.3f} | {r['v']:.4f} | {r['a']:.4f} | {'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |"
+        )
+    return "\n".join(out)
+
+
+# -- corner-dense parts: exact stop, circular blends, optimal transitions -------------------------------
+def part_polygons() -> dict[str, list[tuple[float, float]]]:
+    """Closed tool-centre polygons (start in the middle of a side so every corner is a corner)."""
+    square = [(20.0, 0.0), (40.0, 0.0), (40.0, 40.0), (0.0, 40.0), (0.0, 0.0), (20.0, 0.0)]
+    star = []
+    for k in range(10):
+        rad = 25.0 if k % 2 == 0 else 11.0
+        ang = math.pi / 2 + k * math.pi / 5
+        star.append((rad * math.cos(ang), rad * math.sin(ang)))
+    mid = ((star[0][0] + star[1][0]) / 2, (star[0][1] + star[1][1]) / 2)
+    star = [mid, *star[1:], star[0], mid]
+    comb = [(24.0, -6.0), (48.0, -6.0), (48.0, 12.0)]
+    for k in range(6):
+        x0 = 48.0 - 8.0 * k
+        comb += [(x0 - 4.0, 12.0), (x0 - 4.0, 0.0), (x0 - 8.0, 0.0)]
+        if k < 5:
+            comb.append((x0 - 8.0, 12.0))
+    comb += [(0.0, -6.0), (24.0, -6.0)]
+    return {"square 40": square, "star 10 corners": star, "comb 24 corners": _dedupe(comb)}
+
+
+def _dedupe(pts: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    out = [pts[0]]
+    for p in pts[1:]:
+        if math.dist(p, out[-1]) > 1e-9:
+            out.append(p)
+    # drop collinear vertices
+    res = [out[0]]
+    for i in range(1, len(out) - 1):
+        a, b, c = np.array(res[-1]), np.array(out[i]), np.array(out[i + 1])
+        if abs(np.cross(b - a, c - b)) > 1e-9:
+            res.append(out[i])
+    res.append(out[-1])
+    return res
+
+
+def _segment(g, n: int, feed: float, radius: float = 3.0) -> Segment:
+    return Segment(g, Plane.G17, Role.CONTOUR, SourceSpan("part", n + 1, 1, f"N{10 * (n + 1)}"), feed, Side.LEFT, radius)
+
+
+def polygon_path(pts: list[tuple[float, float]], feed: float) -> list[Segment]:
+    """Exact stop: the sharp polygon."""
+    return [_segment(Line((*a, 0.0), (*b, 0.0)), i, feed) for i, (a, b) in enumerate(zip(pts, pts[1:]))]
+
+
+def arc_blend_path(pts: list[tuple[float, float]], eps: float, feed: float) -> list[Segment]:
+    """Every corner replaced by the tangent arc whose deviation from the corner is ``eps`` (mm).
+
+    Deflection φ: ``r = ε·cos(φ/2)/(1 − cos(φ/2))``, tangent points at ``r·tan(φ/2)`` from the corner
+    (spec timing.md §4.5); ε is reduced where the neighbouring lines are too short.
+    """
+    P = [np.array(p, float) for p in pts]
+    n = len(P)
+    cut = [0.0] * n
+    arcs: dict[int, tuple] = {}
+    for i in range(1, n - 1):
+        d0 = (P[i] - P[i - 1]) / np.linalg.norm(P[i] - P[i - 1])
+        d1 = (P[i + 1] - P[i]) / np.linalg.norm(P[i + 1] - P[i])
+        phi = math.acos(float(np.clip(d0 @ d1, -1.0, 1.0)))
+        turn = 1.0 if float(np.cross(d0, d1)) > 0 else -1.0
+        room = 0.45 * min(np.linalg.norm(P[i] - P[i - 1]), np.linalg.norm(P[i + 1] - P[i]))
+        r = eps * math.cos(phi / 2) / (1 - math.cos(phi / 2))
+        d = r * math.tan(phi / 2)
+        if d > room:
+            r *= room / d
+            d = room
+        cut[i] = d
+        a_pt = P[i] - d0 * d
+        centre = a_pt + turn * r * np.array([-d0[1], d0[0]])
+        a0 = math.atan2(a_pt[1] - centre[1], a_pt[0] - centre[0])
+        arcs[i] = (float(centre[0]), float(centre[1]), r, a0, turn * phi)
+    out: list[Segment] = []
+    k = 0
+    for i in range(n - 1):
+        a, b = P[i], P[i + 1]
+        d = (b - a) / np.linalg.norm(b - a)
+        s, e = a + d * cut[i], b - d * cut[i + 1]
+        out.append(_segment(Line((*s, 0.0), (*e, 0.0)), k, feed))
+        k += 1
+        if i + 1 in arcs:
+            cx, cy, r, a0, sw = arcs[i + 1]
+            out.append(_segment(Arc((cx, cy), r, a0, sw), k, feed))
+            k += 1
+    return out
+
+
+def optimal_path(pts: list[tuple[float, float]], eps: float, feed: float) -> list[Segment] | None:
+    """Optimal transitions from ``trcopt.optimize.corners`` when importable and blending, else None."""
+    try:
+        from trcopt.optimize.corners import blend_corners
+    except ImportError:
+        return None
+    prog = [Segment(s.geometry, s.plane, s.role, s.span, feed) for s in polygon_path(pts, feed)]
+    try:
+        res = blend_corners(polygon_path(pts, feed), prog, tolerance_mm=eps, mode="optimal")
+    except Exception:  # the module is under development; the comparison reports n/a
+        return None
+    return res.segments if res.blended else None
+
+
+def compare_parts(eps: float = 0.05, feed: float = 150.0, machine=ISO, with_optimal: bool = True) -> list[dict]:
+    rows = []
+    for name, pts in part_polygons().items():
+        variants = {"exact stop": polygon_path(pts, feed), f"arc blend ε={eps}": arc_blend_path(pts, eps, feed)}
+        if with_optimal:
+            variants["optimal transitions"] = optimal_path(pts, eps, feed)
+        for label, path in variants.items():
+            if path is None:
+                rows.append({"part": name, "variant": label, "T_acc": None, "T_jerk": None, "wall": None, "path": None})
+                continue
+            base = time_parameterize(path, machine)
+            t0 = time.perf_counter()
+            traj = jerk_limited(path, machine, base=base)
+            wall = time.perf_counter() - t0
+            rep = traj.check_limits(dt=2e-4)
+            rows.append({"part": name, "variant": label, "T_acc": base.duration, "T_jerk": traj.duration,
+                         "valid": rep.ok, "jerk": max(rep.jerk_ratio), "wall": wall, "path": path,
+                         "traj": traj, "base": base, "corners": len(pts) - 2})
+    return rows
+
+
+def compare_table(rows: list[dict]) -> str:
+    out = ["| part | variant | T acceleration-limited s | T jerk-limited s | jerk ratio | valid | wall s |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if r["T_acc"] is None:
+            out.append(f"| {r['part']} | {r['variant']} | n/a | n/a | | | |")
+            continue
+        out.append(f"| {r['part']} | {r['variant']} | {r['T_acc']:.4f} | {r['T_jerk']:.4f} | {r['jerk']:.4f} | "
+                   f"{'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |")
+    return "\n".join(out)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--big", action="store_true", help="add B9 with 1 000 segments (slow)")
+    ap.add_argument("--no-families", action="store_true")
+    args = ap.parse_args(argv)
+    if not args.no_families:
+        rows = run_families(args.big)
+        print(families_table(rows))
+        ok = all(r["valid"] for r in rows)
+        b17 = [r["vs_ref"] for r in rows if r["vs_ref"] is not None]
+        print(f"\nall valid: {ok}; B1/B7 T_jerk/Σdouble-S in [{min(b17):.4f}, {max(b17):.4f}]; "
+              f"max jerk ratio {max(r['jerk'] for r in rows):.4f}; total wall {sum(r['wall'] for r in rows):.1f} s\n")
+    print(compare_table(compare_parts()))
+
+
+if __name__ == "__main__":
+    main()
