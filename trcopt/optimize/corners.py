@@ -1,0 +1,478 @@
+"""Tolerance-bounded corner transitions of the tool-centre path (issue 6, part 1).
+
+With exact geometry the tool stops at every tangent discontinuity of the tool-centre path. Given a
+contour tolerance ε (mm), :func:`optimize_corners` replaces each such corner by a G2-continuous
+quintic (``Poly`` segment, role ``corner``, span of the following block) chosen by
+:class:`~trcopt.optimize.corners_qp.CornerBlendProblem` (SQP of OSQP QPs: least peak curvature,
+material left ≤ ε, no gouge). ``mode="arc"`` builds the baseline instead: the largest circular
+blend (G1) meeting the same cut-part constraints, the usual controller smoothing.
+
+The cut-part deviation is measured on the physics, not on the tool-centre path: the exact path's
+cut boundary is probed along its normals and the new path's swept discs must reach every probe
+within ε (:func:`cut_deviation`), while every tool-centre point keeps distance ≥ R from the
+programmed contour (no gouge).
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..geometry import Arc, Line, hermite_curve
+from ..path import Role, Segment
+from .corners_qp import CornerBlendProblem, CornerSite, CornerSolution, material_left
+from .model import points_distance
+
+__all__ = [
+    "CornerMode",
+    "CornerRecord",
+    "CornerResult",
+    "blend_corners",
+    "optimize_corners",
+    "cut_deviation",
+    "find_corner_sites",
+]
+
+MAX_TURN_RAD = math.radians(170.0)
+TANGENT_TOL_RAD = 1e-6
+TARGET_MARGIN = 2e-3
+
+
+class CornerMode(enum.Enum):
+    EXACT = "exact"
+    OPTIMAL = "optimal"
+    ARC = "arc"
+
+    @classmethod
+    def parse(cls, value: str | CornerMode) -> CornerMode:
+        if isinstance(value, CornerMode):
+            return value
+        try:
+            return cls(value)
+        except ValueError:
+            raise ValueError(f"unknown corner mode {value!r}; valid: {', '.join(m.value for m in cls)}") from None
+
+
+@dataclass(frozen=True)
+class CornerRecord:
+    """What happened at one tangent discontinuity (joint between toolpath[index] and [index+1])."""
+
+    index: int
+    turn_deg: float
+    inside: bool
+    blended: bool
+    tolerance_mm: float
+    max_curvature: float | None = None  # 1/mm
+    span_mm: float | None = None  # sa + sb
+    solution: CornerSolution | None = None
+    reason: str = ""
+
+
+@dataclass
+class CornerResult:
+    """New tool-centre path and per-corner records."""
+
+    segments: list[Segment]
+    corners: list[CornerRecord] = field(default_factory=list)
+    max_deviation_mm: float = 0.0
+    mode: CornerMode = CornerMode.OPTIMAL
+
+    @property
+    def blended(self) -> int:
+        return sum(c.blended for c in self.corners)
+
+
+# ------------------------------------------------------------------------------------- sites
+def _eligible(seg: Segment) -> bool:
+    g = seg.geometry
+    return (
+        not seg.is_rapid
+        and seg.role in (Role.CONTOUR, Role.CORNER)
+        and seg.radius > 0
+        and isinstance(g, Line | Arc)
+        and g.plane_length > 1e-9
+        and abs(g.start[2] - g.end[2]) <= 1e-12
+    )
+
+
+def _turn(a: Line | Arc, b: Line | Arc) -> float:
+    ta, tb = a.end_tangent(), b.start_tangent()
+    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
+
+
+def _joint_indices(toolpath: Sequence[Segment]) -> list[int]:
+    out = []
+    for k in range(len(toolpath) - 1):
+        s1, s2 = toolpath[k], toolpath[k + 1]
+        if not (_eligible(s1) and _eligible(s2)):
+            continue
+        if s1.plane != s2.plane or s1.side != s2.side or abs(s1.radius - s2.radius) > 1e-12:
+            continue
+        g1, g2 = s1.geometry, s2.geometry
+        if math.dist(g1.end, g2.start) > 1e-9:
+            continue
+        turn = abs(_turn(g1, g2))  # type: ignore[arg-type]
+        if TANGENT_TOL_RAD < turn <= MAX_TURN_RAD:
+            out.append(k)
+    return out
+
+
+def _material_sign(seg: Segment) -> float:
+    # G41 (LEFT): tool left of the contour, so the material is right of travel (−1)
+    return -1.0 if seg.side.value == "left" else 1.0
+
+
+def _normal(t: np.ndarray, sign: float) -> np.ndarray:
+    return sign * np.array([-t[..., 1], t[..., 0]]).T if t.ndim > 1 else sign * np.array([-t[1], t[0]])
+
+
+def _element_samples(
+    el: Line | Arc, step: float, s0: float = 0.0, s1: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points and unit tangents of ``el`` from plane arc length s0 to s1 (default: end) at ``step``."""
+    L = el.plane_length
+    s1 = L if s1 is None else min(s1, L)
+    n = max(2, int(math.ceil((s1 - s0) / step)) + 1)
+    lam = np.linspace(s0, s1, n) / L
+    if isinstance(el, Line):
+        a, b = np.array(el.start2), np.array(el.end2)
+        pts = a[None, :] + lam[:, None] * (b - a)[None, :]
+        tan = np.repeat(np.array([el.direction2()]), n, axis=0)
+        return pts, tan
+    ang = el.a0 + lam * el.sweep
+    pts = np.stack((el.center[0] + el.radius * np.cos(ang), el.center[1] + el.radius * np.sin(ang)), axis=1)
+    k = 1.0 if el.sweep > 0 else -1.0
+    tan = np.stack((-np.sin(ang) * k, np.cos(ang) * k), axis=1)
+    return pts, tan
+
+
+def _fan(n1: np.ndarray, n2: np.ndarray, count: int) -> np.ndarray:
+    a1, a2 = math.atan2(n1[1], n1[0]), math.atan2(n2[1], n2[0])
+    d = (a2 - a1 + math.pi) % (2 * math.pi) - math.pi
+    ang = a1 + np.linspace(0.0, 1.0, count) * d
+    return np.stack((np.cos(ang), np.sin(ang)), axis=1)
+
+
+def _boundary_probes(
+    exact: Sequence[Line | Arc],
+    programmed: Sequence[Line | Arc],
+    radius: float,
+    sign: float,
+    step: float,
+    near: np.ndarray | None = None,
+    reach: float = math.inf,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points of the exact cut boundary and unit directions away from the material.
+
+    Candidates: envelope points of the exact centre elements, disc fans at their joints, the
+    programmed vertices with their normal fans; kept where they lie on the boundary of the exact
+    swept region (distance to the exact centre path = R).
+    """
+    pts, dirs = [], []
+    for el in exact:
+        p, t = _element_samples(el, step)
+        n = _normal(t, sign)
+        pts.append(p + radius * n)
+        dirs.append(-n)
+    for e1, e2 in zip(exact[:-1], exact[1:], strict=False):
+        if math.dist(e1.end, e2.start) > 1e-9:
+            continue
+        j = np.array(e1.point2(1.0))
+        fan = _fan(_normal(np.array(e1.end_tangent()), sign), _normal(np.array(e2.start_tangent()), sign), 33)
+        pts.append(j[None, :] + radius * fan)
+        dirs.append(-fan)
+    for e1, e2 in zip(programmed[:-1], programmed[1:], strict=False):
+        if math.dist(e1.end[:2], e2.start[:2]) > 1e-9:
+            continue
+        v = np.array(e1.point2(1.0))
+        fan = _fan(-_normal(np.array(e1.end_tangent()), sign), -_normal(np.array(e2.start_tangent()), sign), 33)
+        pts.append(np.repeat(v[None, :], len(fan), axis=0))
+        dirs.append(fan)
+    P, D = np.vstack(pts), np.vstack(dirs)
+    if near is not None:
+        keep = np.hypot(*(P - near[None, :]).T) <= reach
+        P, D = P[keep], D[keep]
+    dmin = np.min([points_distance(el, P) for el in exact], axis=0)
+    keep = np.abs(dmin - radius) <= 1e-7 * max(radius, 1.0)
+    return P[keep], D[keep]
+
+
+def find_corner_sites(
+    toolpath: Sequence[Segment],
+    programmed: Sequence[Segment],
+    *,
+    probe_step: float | None = None,
+    tolerance_mm: float = 0.01,
+) -> list[tuple[int, CornerSite]]:
+    """The tangent discontinuities that may be blended and their constraint data."""
+    joints = _joint_indices(toolpath)
+    at = set(joints)
+    contour = [
+        p
+        for p in programmed
+        if p.role is Role.CONTOUR
+        and isinstance(p.geometry, Line | Arc)
+        and p.geometry.plane_length > 0
+        and not p.is_rapid
+    ]
+    sites = []
+    for k in joints:
+        sa_seg, sb_seg = toolpath[k], toolpath[k + 1]
+        a, b = sa_seg.geometry, sb_seg.geometry
+        assert isinstance(a, Line | Arc) and isinstance(b, Line | Arc)
+        avail_a = a.plane_length * (0.5 if (k - 1) in at else 0.98)
+        avail_b = b.plane_length * (0.5 if (k + 1) in at else 0.98)
+        R = sa_seg.radius
+        sign = _material_sign(sa_seg)
+        J = np.array(a.point2(1.0))
+        reach = max(avail_a, avail_b) + 3.0 * R
+        prog = tuple(
+            p.geometry
+            for p in contour
+            if p.plane == sa_seg.plane and points_distance(p.geometry, J[None, :])[0] <= reach + R  # type: ignore[arg-type]
+        )
+        # exact neighbourhood: previous, a, b, next (when joined)
+        ex: list[Line | Arc] = []
+        if k >= 1 and _eligible(toolpath[k - 1]) and math.dist(toolpath[k - 1].geometry.end, a.start) < 1e-9:
+            ex.append(toolpath[k - 1].geometry)  # type: ignore[arg-type]
+        ex += [a, b]
+        if (
+            k + 2 < len(toolpath)
+            and _eligible(toolpath[k + 2])
+            and math.dist(b.end, toolpath[k + 2].geometry.start) < 1e-9
+        ):
+            ex.append(toolpath[k + 2].geometry)  # type: ignore[arg-type]
+        step = probe_step or max(min(0.5 * tolerance_mm, (max(avail_a, avail_b) + R) / 300.0), 1e-4)
+        progs = [p for p in prog]
+        # inside corners: the transition cannot be much longer than the same-ε circle's
+        c = math.cos(0.5 * abs(_turn(a, b)))
+        t_arc = tolerance_mm * c / max(1.0 - c, 1e-12) * math.tan(0.5 * abs(_turn(a, b)))
+        span = max(avail_a, avail_b)
+        if _turn(a, b) * sign < 0:
+            span = min(span, 4.0 * t_arc + 2.0 * R)
+        probes, dirs = _boundary_probes(ex, progs, R, sign, step, near=J, reach=span + 1.05 * R)
+        context = tuple(e for e in ex if e is not a and e is not b)
+        sites.append((k, CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, dirs, a.end[2], context)))
+    return sites
+
+
+# ------------------------------------------------------------------------------------- blends
+def _trim(g: Line | Arc, lam0: float, lam1: float) -> Line | Arc:
+    return g.sub(lam0, lam1, g.start[2], g.end[2])
+
+
+def _arc_blend(site: CornerSite, eps: float) -> tuple[Arc, float, float] | None:
+    """Largest circular blend (tangent to both lines) with material left ≤ ε and no gouge."""
+    if not (isinstance(site.a, Line) and isinstance(site.b, Line)):
+        return None
+    phi = abs(site.turn)
+    ta, tb = np.array(site.a.direction2()), np.array(site.b.direction2())
+    J = site.joint
+    sgn = 1.0 if site.turn > 0 else -1.0
+    tmax = min(site.avail_a, site.avail_b)
+
+    def build(T: float) -> tuple[Arc, np.ndarray]:
+        r = T / math.tan(0.5 * phi)
+        A, B = J - T * ta, J + T * tb
+        c = A + sgn * r * np.array([-ta[1], ta[0]])
+        arc = Arc.from_points((A[0], A[1], site.w), (B[0], B[1], site.w), (c[0], c[1]), sgn > 0, False)
+        pts, _ = _element_samples(arc, max(arc.plane_length / 200.0, 1e-6))
+        return arc, pts
+
+    fine = max(math.sqrt(0.08 * site.radius * eps), 1e-5)
+    la, lb = site.a.plane_length, site.b.plane_length
+
+    def ok(T: float) -> bool:
+        _, pts = build(T)
+        dev = site.material_left(pts, T, T, eps)
+        clear = min((points_distance(e, pts).min() for e in site.programmed), default=math.inf)
+        return float(dev.max(initial=0.0)) <= eps and clear >= site.radius - 1e-9
+
+    lo, hi = 0.0, tmax
+    if ok(hi):
+        lo = hi
+    else:
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            if ok(mid):
+                lo = mid
+            else:
+                hi = mid
+    if lo <= 1e-9:
+        return None
+    return build(lo)[0], lo, lo
+
+
+def blend_corners(
+    toolpath: Sequence[Segment],
+    programmed: Sequence[Segment],
+    *,
+    tolerance_mm: float,
+    machine: object | None = None,
+    mode: str | CornerMode = CornerMode.OPTIMAL,
+) -> CornerResult:
+    """Replace tangent discontinuities by transitions within the contour tolerance.
+
+    Parameters
+    ----------
+    toolpath:
+        Exact tool-centre path (output of compensation).
+    programmed:
+        The programmed (uncompensated) path: the no-gouge and deviation reference.
+    tolerance_mm:
+        Contour tolerance ε, mm: material left beyond the exact cut ≤ ε.
+    machine:
+        Reserved for curvature-jump smoothing under jerk limits (the timing stage is acceleration
+        limited, so it is not used yet).
+    mode:
+        ``"optimal"`` (G2 quintics by SQP/OSQP), ``"arc"`` (largest same-ε circular blends, G1) or
+        ``"exact"`` (unchanged).
+    """
+    mode = CornerMode.parse(mode)
+    segs = list(toolpath)
+    if mode is CornerMode.EXACT or tolerance_mm <= 0:
+        return CornerResult(segs, [], 0.0, mode)
+    sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm)
+    # a small margin for the difference between the per-corner and the global sampling
+    eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
+    result = CornerResult(segs, [], 0.0, mode)
+    for _round in range(4):
+        result = _assemble(segs, sites, eps_of, mode)
+        dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
+        result.max_deviation_mm = dev
+        if dev <= tolerance_mm or where is None:
+            break
+        # tighten the corner closest to the worst probe and try again
+        k_bad = min(sites, key=lambda ks: float(np.hypot(*(ks[1].joint - where))))[0]
+        eps_of[k_bad] *= 0.98 * tolerance_mm / max(dev, tolerance_mm)
+    return result
+
+
+def _assemble(
+    segs: list[Segment], sites: list[tuple[int, CornerSite]], eps_of: dict[int, float], mode: CornerMode
+) -> CornerResult:
+    lam0 = [0.0] * len(segs)
+    lam1 = [1.0] * len(segs)
+    inserts: dict[int, Segment] = {}
+    records = []
+    for k, site in sites:
+        eps = eps_of[k]
+        turn = math.degrees(site.turn)
+        a, b = segs[k].geometry, segs[k + 1].geometry
+        if mode is CornerMode.ARC:
+            built = _arc_blend(site, eps)
+            if built is None:
+                records.append(
+                    CornerRecord(k, turn, site.inside, False, eps, reason="no circular blend (arc neighbours)")
+                )
+                continue
+            geom, sa, sb = built
+            kmax = 1.0 / geom.radius
+            sol = None
+        else:
+            problem = CornerBlendProblem(site, eps)
+            sol = problem.solve()
+            if not sol.ok:
+                records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=sol.message))
+                continue
+            gm = sol.geometry
+            sa, sb, w = gm.sa, gm.sb, site.w
+            geom = hermite_curve(
+                (gm.p0[0], gm.p0[1], w),
+                (gm.d0[0], gm.d0[1], 0.0),
+                (gm.p1[0], gm.p1[1], w),
+                (gm.d1[0], gm.d1[1], 0.0),
+                (gm.a0[0], gm.a0[1], 0.0),
+                (gm.a1[0], gm.a1[1], 0.0),
+                label="corner-quintic",
+            )
+            kmax = gm.max_curvature
+        lam1[k] = min(lam1[k], 1.0 - sa / a.plane_length)
+        lam0[k + 1] = max(lam0[k + 1], sb / b.plane_length)
+        inserts[k] = replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)
+        records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol))
+    out: list[Segment] = []
+    for i, s in enumerate(segs):
+        if lam0[i] != 0.0 or lam1[i] != 1.0:
+            g = s.geometry
+            if (lam1[i] - lam0[i]) * g.plane_length > 1e-7:
+                out.append(s.with_geometry(_trim(g, lam0[i], lam1[i])))  # type: ignore[arg-type]
+        else:
+            out.append(s)
+        if i in inserts:
+            out.append(inserts[i])
+    return CornerResult(out, records, 0.0, mode)
+
+
+def optimize_corners(
+    toolpath: Sequence[Segment],
+    programmed: Sequence[Segment],
+    *,
+    tolerance_mm: float,
+    machine: object | None = None,
+    mode: str | CornerMode = "optimal",
+) -> list[Segment]:
+    """New tool-centre path with tolerance-bounded corner transitions (see :func:`blend_corners`)."""
+    return blend_corners(toolpath, programmed, tolerance_mm=tolerance_mm, machine=machine, mode=mode).segments
+
+
+# ------------------------------------------------------------------------------------- measure
+def _path_samples(segments: Sequence[Segment], step: float) -> np.ndarray:
+    pts = []
+    for s in segments:
+        g = s.geometry
+        n = max(2, int(math.ceil(g.length / step)) + 1)
+        pts.append(np.array([g.point(x)[:2] for x in np.linspace(0.0, g.length, n)]))
+    return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def cut_deviation(
+    programmed: Sequence[Segment],
+    exact: Sequence[Segment],
+    new: Sequence[Segment],
+    *,
+    step: float = 0.002,
+    locate: bool = False,
+) -> tuple[float, np.ndarray | None]:
+    """Largest thickness of material the new path leaves beyond the exact path's cut (mm).
+
+    The exact cut boundary (envelope points, disc fans at corners, programmed vertices on the
+    boundary) is probed every ``step`` mm along its normals; for each probe the distance along
+    the normal to the first disc of radius R swept by the new path (sampled every ``step`` mm)
+    is the material left. Returns (max, location of the worst probe or None).
+    """
+    from scipy.spatial import cKDTree
+
+    comp = [s for s in exact if _eligible(s)]
+    if not comp:
+        return 0.0, None
+    best, where = 0.0, None
+    # group by compensation radius/side (one group in practice)
+    R, sign = comp[0].radius, _material_sign(comp[0])
+    contour = [
+        p.geometry
+        for p in programmed
+        if p.role is Role.CONTOUR
+        and isinstance(p.geometry, Line | Arc)
+        and p.geometry.plane_length > 0
+        and not p.is_rapid
+    ]
+    probes, dirs = _boundary_probes([s.geometry for s in comp], contour, R, sign, step)  # type: ignore[misc]
+    centres = _path_samples([s for s in new if not s.is_rapid and s.radius > 0], step)
+    tree = cKDTree(centres)
+    dmin, _ = tree.query(probes)
+    # a probe within R (+ half a sample spacing of chord sag) of a centre sample is swept
+    open_ = np.nonzero(dmin > R + step * step / (4.0 * R) + 1e-9)[0]
+    for i in open_:
+        idx = tree.query_ball_point(probes[i], R + 1.0)
+        if not idx:
+            val = 1.0
+        else:
+            val = float(material_left(probes[i : i + 1], dirs[i : i + 1], centres[idx], R)[0])
+        if val > best:
+            best, where = val, probes[i]
+    return best, (where if locate else None)
