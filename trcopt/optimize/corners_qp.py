@@ -383,9 +383,9 @@ class CornerBlendProblem:
         for it in range(1, max_iter + 1):
             P, q, A, lo, hi = self.qp_matrices(x, trust)
             solver = osqp.OSQP()
-            solver.setup(P, q, A, lo, hi, verbose=False, eps_abs=1e-8, eps_rel=1e-8, max_iter=4000, polishing=True)
-            res = solver.solve()
-            if res.x is None or not np.all(np.isfinite(res.x)) or res.info.status_val not in (1, 2, -2):
+            solver.setup(P, q, A, lo, hi, verbose=False, eps_abs=1e-7, eps_rel=1e-7, max_iter=20000, polishing=True, adaptive_rho_interval=25)
+            res = solver.solve(raise_error=False)
+            if res.x is None or not np.all(np.isfinite(res.x)) or res.info.status_val not in (1, 2):
                 trust *= 0.25
                 if trust < 1e-7 * L:
                     status_msg = f"osqp: {res.info.status}"
@@ -401,7 +401,7 @@ class CornerBlendProblem:
                     best = (f, x.copy())
                 trust = min(trust * 1.5, 0.5 * L)
                 history.append(f)
-                if vn <= 1e-6 * self.eps and len(history) > 3 and history[-4] - f < 1e-3 * f:
+                if vn <= 1e-6 * self.eps and len(history) > 5 and history[-6] - f < 1e-3 * f:
                     status_msg = "converged"
                     break
             else:
