@@ -109,7 +109,8 @@ def _dedupe(pts: list[tuple[float, float]]) -> list[tuple[float, float]]:
     res = [out[0]]
     for i in range(1, len(out) - 1):
         a, b, c = np.array(res[-1]), np.array(out[i]), np.array(out[i + 1])
-        if abs(np.cross(b - a, c - b)) > 1e-9:
+        u, w = b - a, c - b
+        if abs(u[0] * w[1] - u[1] * w[0]) > 1e-9:
             res.append(out[i])
     res.append(out[-1])
     return res
@@ -138,7 +139,7 @@ def arc_blend_path(pts: list[tuple[float, float]], eps: float, feed: float) -> l
         d0 = (P[i] - P[i - 1]) / np.linalg.norm(P[i] - P[i - 1])
         d1 = (P[i + 1] - P[i]) / np.linalg.norm(P[i + 1] - P[i])
         phi = math.acos(float(np.clip(d0 @ d1, -1.0, 1.0)))
-        turn = 1.0 if float(np.cross(d0, d1)) > 0 else -1.0
+        turn = 1.0 if d0[0] * d1[1] - d0[1] * d1[0] > 0 else -1.0
         room = 0.45 * min(np.linalg.norm(P[i] - P[i - 1]), np.linalg.norm(P[i + 1] - P[i]))
         r = eps * math.cos(phi / 2) / (1 - math.cos(phi / 2))
         d = r * math.tan(phi / 2)
