@@ -23,12 +23,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from timing_cases import ANISO, ISO, families, seg  # noqa: E402
+from timing_cases import ANISO, ISO, families  # noqa: E402
 
 from trcopt import Arc, Line, Plane, Role, Segment, SourceSpan  # noqa: E402
 from trcopt.nc.model import Side  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
-from trcopt.timing.doubles import double_s_polyline_time, double_s_time, line_limits  # noqa: E402
+from trcopt.timing.doubles import double_s_polyline_time  # noqa: E402
 from trcopt.timing.jerk import jerk_limited  # noqa: E402
 
 
@@ -53,28 +53,44 @@ def run_families(big: bool = False) -> list[dict]:
             wall = time.perf_counter() - t0
             rep = traj.check_limits(dt=1e-4)
             ref = double_s_reference(fam, path, machine)
-            rows.append({
-                "family": fam, "case": case, "limits": machine.name[:5], "segments": len(path),
-                "sections": len(traj.sections), "T_acc": base.duration, "T_jerk": traj.duration,
-                "CTR": traj.duration / base.duration, "ref": ref, "vs_ref": None if ref is None else traj.duration / ref,
-                "jerk": max(rep.jerk_ratio), "jerk_knot": max(rep.jerk_knot_ratio), "fd1k": max(rep.jerk_fd_1khz_ratio),
-                "v": max(rep.v_ratio), "a": max(rep.a_ratio), "valid": rep.ok, "wall": wall,
-                "iters": traj.iterations,
-            })
+            rows.append(
+                {
+                    "family": fam,
+                    "case": case,
+                    "limits": machine.name[:5],
+                    "segments": len(path),
+                    "sections": len(traj.sections),
+                    "T_acc": base.duration,
+                    "T_jerk": traj.duration,
+                    "CTR": traj.duration / base.duration,
+                    "ref": ref,
+                    "vs_ref": None if ref is None else traj.duration / ref,
+                    "jerk": max(rep.jerk_ratio),
+                    "jerk_knot": max(rep.jerk_knot_ratio),
+                    "fd1k": max(rep.jerk_fd_1khz_ratio),
+                    "v": max(rep.v_ratio),
+                    "a": max(rep.a_ratio),
+                    "valid": rep.ok,
+                    "wall": wall,
+                    "iters": traj.iterations,
+                }
+            )
     return rows
 
 
 def families_table(rows: list[dict]) -> str:
     out = [
-        "| family | case | limits | T_acc s | T_jerk s | CTR T_jerk/T_acc | Σ double-S s | T_jerk/ref | jerk ratio | of which knots | FD 1 kHz | v ratio | a ratio | valid | wall s |",
+        "| family | case | limits | T_acc s | T_jerk s | CTR T_jerk/T_acc | Σ double-S s | T_jerk/ref "
+        "| jerk ratio | of which knots | FD 1 kHz | v ratio | a ratio | valid | wall s |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         ref = "" if r["ref"] is None else f"{r['ref']:.6f}"
         vs = "" if r["vs_ref"] is None else f"{r['vs_ref']:.4f}"
         out.append(
-            f"| {r['family']} | {r['case']} | {r['limits']} | {r['T_acc']:.6f} | {r['T_jerk']:.6f} | {r['CTR']:.4f} | {ref} | {vs} | "
-            f"{r['jerk']:.4f} | {r['jerk_knot']:.4f} | {r['fd1k']:.3f} | {r['v']:.4f} | {r['a']:.4f} | {'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |"
+            f"| {r['family']} | {r['case']} | {r['limits']} | {r['T_acc']:.6f} | {r['T_jerk']:.6f} | "
+            f"{r['CTR']:.4f} | {ref} | {vs} | {r['jerk']:.4f} | {r['jerk_knot']:.4f} | {r['fd1k']:.3f} | "
+            f"{r['v']:.4f} | {r['a']:.4f} | {'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |"
         )
     return "\n".join(out)
 
@@ -117,12 +133,14 @@ def _dedupe(pts: list[tuple[float, float]]) -> list[tuple[float, float]]:
 
 
 def _segment(g, n: int, feed: float, radius: float = 3.0) -> Segment:
-    return Segment(g, Plane.G17, Role.CONTOUR, SourceSpan("part", n + 1, 1, f"N{10 * (n + 1)}"), feed, Side.LEFT, radius)
+    return Segment(
+        g, Plane.G17, Role.CONTOUR, SourceSpan("part", n + 1, 1, f"N{10 * (n + 1)}"), feed, Side.LEFT, radius
+    )
 
 
 def polygon_path(pts: list[tuple[float, float]], feed: float) -> list[Segment]:
     """Exact stop: the sharp polygon."""
-    return [_segment(Line((*a, 0.0), (*b, 0.0)), i, feed) for i, (a, b) in enumerate(zip(pts, pts[1:]))]
+    return [_segment(Line((*a, 0.0), (*b, 0.0)), i, feed) for i, (a, b) in enumerate(zip(pts, pts[1:], strict=False))]
 
 
 def arc_blend_path(pts: list[tuple[float, float]], eps: float, feed: float) -> list[Segment]:
@@ -195,20 +213,37 @@ def compare_parts(eps: float = 0.05, feed: float = 150.0, machine=ISO, with_opti
             traj = jerk_limited(path, machine, base=base)
             wall = time.perf_counter() - t0
             rep = traj.check_limits(dt=2e-4)
-            rows.append({"part": name, "variant": label, "T_acc": base.duration, "T_jerk": traj.duration,
-                         "valid": rep.ok, "jerk": max(rep.jerk_ratio), "wall": wall, "path": path,
-                         "traj": traj, "base": base, "corners": len(pts) - 2})
+            rows.append(
+                {
+                    "part": name,
+                    "variant": label,
+                    "T_acc": base.duration,
+                    "T_jerk": traj.duration,
+                    "valid": rep.ok,
+                    "jerk": max(rep.jerk_ratio),
+                    "wall": wall,
+                    "path": path,
+                    "traj": traj,
+                    "base": base,
+                    "corners": len(pts) - 2,
+                }
+            )
     return rows
 
 
 def compare_table(rows: list[dict]) -> str:
-    out = ["| part | variant | T acceleration-limited s | T jerk-limited s | jerk ratio | valid | wall s |", "|---|---|---|---|---|---|---|"]
+    out = [
+        "| part | variant | T acceleration-limited s | T jerk-limited s | jerk ratio | valid | wall s |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         if r["T_acc"] is None:
             out.append(f"| {r['part']} | {r['variant']} | n/a | n/a | | | |")
             continue
-        out.append(f"| {r['part']} | {r['variant']} | {r['T_acc']:.4f} | {r['T_jerk']:.4f} | {r['jerk']:.4f} | "
-                   f"{'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |")
+        out.append(
+            f"| {r['part']} | {r['variant']} | {r['T_acc']:.4f} | {r['T_jerk']:.4f} | {r['jerk']:.4f} | "
+            f"{'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} |"
+        )
     return "\n".join(out)
 
 
@@ -222,8 +257,10 @@ def main(argv: list[str] | None = None) -> None:
         print(families_table(rows))
         ok = all(r["valid"] for r in rows)
         b17 = [r["vs_ref"] for r in rows if r["vs_ref"] is not None]
-        print(f"\nall valid: {ok}; B1/B7 T_jerk/Σdouble-S in [{min(b17):.4f}, {max(b17):.4f}]; "
-              f"max jerk ratio {max(r['jerk'] for r in rows):.4f}; total wall {sum(r['wall'] for r in rows):.1f} s\n")
+        print(
+            f"\nall valid: {ok}; B1/B7 T_jerk/Σdouble-S in [{min(b17):.4f}, {max(b17):.4f}]; "
+            f"max jerk ratio {max(r['jerk'] for r in rows):.4f}; total wall {sum(r['wall'] for r in rows):.1f} s\n"
+        )
     print(compare_table(compare_parts()))
 
 

@@ -19,8 +19,13 @@ from trcopt.timing.sections import axis_limits, segment_feeds, split_sections
 
 J = 5e4
 ISO = Machine(
-    name="iso", rapid_mm_min=12000.0,
-    axes=(("X", AxisLimits(200.0, 2000.0, J)), ("Y", AxisLimits(200.0, 2000.0, J)), ("Z", AxisLimits(200.0, 2000.0, J))),
+    name="iso",
+    rapid_mm_min=12000.0,
+    axes=(
+        ("X", AxisLimits(200.0, 2000.0, J)),
+        ("Y", AxisLimits(200.0, 2000.0, J)),
+        ("Z", AxisLimits(200.0, 2000.0, J)),
+    ),
 )
 
 
@@ -100,7 +105,7 @@ def test_segments_with_times_and_json(lal, tmp_path):
     path, traj = lal
     timed = traj.segments_with_times()
     assert timed[0].t_start_s == 0.0 and timed[-1].t_end_s == pytest.approx(traj.duration)
-    assert all(a.t_end_s == pytest.approx(b.t_start_s) for a, b in zip(timed, timed[1:]))
+    assert all(a.t_end_s == pytest.approx(b.t_start_s) for a, b in zip(timed, timed[1:], strict=False))
     assert all(s.t_end_s > s.t_start_s for s in timed)
     js = traj.to_json()
     json.dumps(js)
@@ -142,7 +147,10 @@ def test_problem_is_inspectable_before_solving():
 
 def test_ipopt_failure_names_section_and_block(monkeypatch):
     monkeypatch.setattr(JerkProblem, "ipopt_options", {**JerkProblem.ipopt_options, "max_iter": 1})
-    path = [seg(Line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0)), block="N10"), seg(Line((10.0, 0.0, 0.0), (10.0, 10.0, 0.0)), block="N20")]
+    path = [
+        seg(Line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0)), block="N10"),
+        seg(Line((10.0, 0.0, 0.0), (10.0, 10.0, 0.0)), block="N20"),
+    ]
     with pytest.raises(TimingError) as info:
         jerk_limited(path, ISO)
     msg = str(info.value)
@@ -151,7 +159,10 @@ def test_ipopt_failure_names_section_and_block(monkeypatch):
 
 
 def test_machine_without_jerk_limits_is_rejected():
-    m = Machine(name="nojerk", axes=(("X", AxisLimits(200.0, 2000.0)), ("Y", AxisLimits(200.0, 2000.0)), ("Z", AxisLimits(200.0, 2000.0))))
+    m = Machine(
+        name="nojerk",
+        axes=(("X", AxisLimits(200.0, 2000.0)), ("Y", AxisLimits(200.0, 2000.0)), ("Z", AxisLimits(200.0, 2000.0))),
+    )
     with pytest.raises(ConfigError, match="jmax_mm_s3"):
         jerk_limited([seg(Line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0)))], m)
 

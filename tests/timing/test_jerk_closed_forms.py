@@ -15,12 +15,22 @@ from trcopt.timing.doubles import double_s_line_time, double_s_polyline_time, do
 from trcopt.timing.jerk import jerk_limited
 
 ISO = Machine(
-    name="isotropic", rapid_mm_min=12000.0,
-    axes=(("X", AxisLimits(200.0, 2000.0, 5e4)), ("Y", AxisLimits(200.0, 2000.0, 5e4)), ("Z", AxisLimits(200.0, 2000.0, 5e4))),
+    name="isotropic",
+    rapid_mm_min=12000.0,
+    axes=(
+        ("X", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Y", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Z", AxisLimits(200.0, 2000.0, 5e4)),
+    ),
 )
 ANISO = Machine(
-    name="anisotropic", rapid_mm_min=15000.0,
-    axes=(("X", AxisLimits(250.0, 3000.0, 5e4)), ("Y", AxisLimits(200.0, 2000.0, 5e4)), ("Z", AxisLimits(100.0, 1000.0, 5e4))),
+    name="anisotropic",
+    rapid_mm_min=15000.0,
+    axes=(
+        ("X", AxisLimits(250.0, 3000.0, 5e4)),
+        ("Y", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Z", AxisLimits(100.0, 1000.0, 5e4)),
+    ),
 )
 
 
@@ -76,7 +86,7 @@ def test_b1_line_within_2_percent_of_double_s(ang, length, machine):
 @pytest.mark.parametrize("machine", [ISO, ANISO], ids=["iso", "aniso"])
 def test_b7_square_is_the_sum_of_double_s(machine):
     pts = [(0.0, 0.0, 0.0), (40.0, 0.0, 0.0), (40.0, 40.0, 0.0), (0.0, 40.0, 0.0), (0.0, 0.0, 0.0)]
-    path = [seg(Line(a, b), 200.0, i) for i, (a, b) in enumerate(zip(pts, pts[1:]))]
+    path = [seg(Line(a, b), 200.0, i) for i, (a, b) in enumerate(zip(pts, pts[1:], strict=False))]
     ref = double_s_polyline_time(pts, machine, 200.0)
     base = time_parameterize(path, machine)
     traj = jerk_limited(path, machine, base=base)

@@ -75,4 +75,4 @@ def double_s_line_time(start: Sequence[float], end: Sequence[float], machine: Ma
 
 def double_s_polyline_time(points: Sequence[Sequence[float]], machine: Machine, feed: float) -> float:
     """Σ double-S over a polyline whose every vertex is a sharp corner (stop), s."""
-    return sum(double_s_line_time(a, b, machine, feed) for a, b in zip(points, points[1:]))
+    return sum(double_s_line_time(a, b, machine, feed) for a, b in zip(points, points[1:], strict=False))

@@ -53,7 +53,10 @@ METHOD = (
     "in arc length; per-axis v, a, jerk limits with exact q', q'', q'''), warm-started from the "
     "acceleration-limited TOPP profile; speed and acceleration 0 at tangent discontinuities"
 )
-KNOT_RULE = "curvature jumps passed at |dq''_k| v^2 <= jmax_k * cycle_s (the acceleration step is absorbed in one interpolation cycle)"
+KNOT_RULE = (
+    "curvature jumps passed at |dq''_k| v^2 <= jmax_k * cycle_s "
+    "(the acceleration step is absorbed in one interpolation cycle)"
+)
 JERK_MEASURE = "max(analytic per-axis jerk of the smooth pieces, knot acceleration step / cycle_s) / jmax"
 
 
@@ -63,7 +66,9 @@ def jerk_limits(machine: Machine) -> np.ndarray:
     for k in "XYZ":
         j = machine.axis(k).jmax_mm_s3
         if j is None:
-            raise ConfigError(f"machine {machine.name!r}: axes.{k} has no jmax_mm_s3; jerk-limited feed needs it on every axis")
+            raise ConfigError(
+                f"machine {machine.name!r}: axes.{k} has no jmax_mm_s3; jerk-limited feed needs it on every axis"
+            )
         out.append(float(j))
     return np.array(out)
 
@@ -103,7 +108,8 @@ class JerkLimitReport:
         return (
             f"{'PASS' if self.ok else 'FAIL'}: v/vmax (X,Y,Z) = {f(self.v_ratio)}; a/amax = {f(self.a_ratio)}; "
             f"j/jmax = {f(self.jerk_ratio)} (knots {f(self.jerk_knot_ratio)}; 1 kHz FD {f(self.jerk_fd_1khz_ratio)}); "
-            f"feed {self.feed_ratio:.4f}; corner speed {self.corner_speed_mm_s:.2e} mm/s; deviation {self.path_deviation_mm:.1e} mm"
+            f"feed {self.feed_ratio:.4f}; corner speed {self.corner_speed_mm_s:.2e} mm/s; "
+            f"deviation {self.path_deviation_mm:.1e} mm"
         )
 
     def to_json(self) -> dict[str, Any]:
@@ -111,11 +117,18 @@ class JerkLimitReport:
             return dict(zip("XYZ", r, strict=True))
 
         return {
-            "ok": self.ok, "v_ratio": d(self.v_ratio), "a_ratio": d(self.a_ratio), "jerk_ratio": d(self.jerk_ratio),
-            "jerk_smooth_ratio": d(self.jerk_smooth_ratio), "jerk_knot_ratio": d(self.jerk_knot_ratio),
-            "jerk_fd_1khz_ratio": d(self.jerk_fd_1khz_ratio), "jerk_fd_10khz_ratio": d(self.jerk_fd_10khz_ratio),
-            "feed_ratio": self.feed_ratio, "corner_speed_mm_s": self.corner_speed_mm_s,
-            "path_deviation_mm": self.path_deviation_mm, "jerk_measure": JERK_MEASURE,
+            "ok": self.ok,
+            "v_ratio": d(self.v_ratio),
+            "a_ratio": d(self.a_ratio),
+            "jerk_ratio": d(self.jerk_ratio),
+            "jerk_smooth_ratio": d(self.jerk_smooth_ratio),
+            "jerk_knot_ratio": d(self.jerk_knot_ratio),
+            "jerk_fd_1khz_ratio": d(self.jerk_fd_1khz_ratio),
+            "jerk_fd_10khz_ratio": d(self.jerk_fd_10khz_ratio),
+            "feed_ratio": self.feed_ratio,
+            "corner_speed_mm_s": self.corner_speed_mm_s,
+            "path_deviation_mm": self.path_deviation_mm,
+            "jerk_measure": JERK_MEASURE,
         }
 
 
@@ -130,9 +143,16 @@ class JerkTrajectory:
     jerk_limited = True
 
     def __init__(
-        self, segments: Sequence[Segment], machine: Machine, feeds: np.ndarray, arrays: PathArrays,
-        sections: Sequence[Section], solutions: Sequence[Solution[SectionProfile]], problems: Sequence[JerkProblem],
-        base: TimedTrajectory, cycle_s: float,
+        self,
+        segments: Sequence[Segment],
+        machine: Machine,
+        feeds: np.ndarray,
+        arrays: PathArrays,
+        sections: Sequence[Section],
+        solutions: Sequence[Solution[SectionProfile]],
+        problems: Sequence[JerkProblem],
+        base: TimedTrajectory,
+        cycle_s: float,
     ) -> None:
         self.segments, self.machine, self.feeds, self.arrays = list(segments), machine, feeds, arrays
         self.sections, self.solutions, self.base, self.cycle_s = list(sections), list(solutions), base, cycle_s
@@ -247,7 +267,9 @@ class JerkTrajectory:
         vr = np.maximum((np.abs(smp.v) / self.vmax).max(axis=0), (np.abs(grid.v) / self.vmax).max(axis=0))
         ar = np.maximum((np.abs(smp.a) / self.amax).max(axis=0), (np.abs(grid.a) / self.amax).max(axis=0))
         js = np.maximum((np.abs(smp.j) / self.jmax).max(axis=0), (np.abs(grid.j) / self.jmax).max(axis=0))
-        fr = max(float((smp.speed / self.feeds[smp.segment]).max()), float((grid.speed / self.feeds[grid.segment]).max()))
+        fr = max(
+            float((smp.speed / self.feeds[smp.segment]).max()), float((grid.speed / self.feeds[grid.segment]).max())
+        )
         jk = (self.knot_steps() / (self.cycle_s * self.jmax)).max(axis=0) if self.knot_s.size else np.zeros(3)
         fd = [self._fd_jerk(d) / self.jmax for d in (1e-3, 1e-4)]
         corner = float(np.concatenate([[sol.geometry.v[0], sol.geometry.v[-1]] for sol in self.solutions]).max())
@@ -258,7 +280,9 @@ class JerkTrajectory:
             ref = np.array(sg.plane.to_xyz(sg.geometry.point(min(max(local, 0.0), sg.geometry.length))))
             dev = max(dev, float(np.linalg.norm(ref - grid.xyz[k])))
         jr = np.maximum(js, jk)
-        ok = bool(vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6)
+        ok = bool(
+            vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
+        )
         if jerk:
             ok = ok and bool(jr.max() <= jerk_tolerance)
 
@@ -266,8 +290,21 @@ class JerkTrajectory:
             return (float(x[0]), float(x[1]), float(x[2]))
 
         return JerkLimitReport(
-            ok, t3(vr), t3(ar), t3(jr), t3(js), t3(jk), t3(fd[0]), t3(fd[1]), fr, corner, dev, tolerance,
-            jerk_tolerance, jerk, int(smp.t.shape[0] + grid.t.shape[0]),
+            ok,
+            t3(vr),
+            t3(ar),
+            t3(jr),
+            t3(js),
+            t3(jk),
+            t3(fd[0]),
+            t3(fd[1]),
+            fr,
+            corner,
+            dev,
+            tolerance,
+            jerk_tolerance,
+            jerk,
+            int(smp.t.shape[0] + grid.t.shape[0]),
         )
 
     def _fd_jerk(self, dt: float) -> np.ndarray:
@@ -282,14 +319,24 @@ class JerkTrajectory:
         secs = []
         for k, (sec, sol) in enumerate(zip(self.sections, self.solutions, strict=True)):
             a, b = self.section_points[k], self.section_points[k + 1]
-            secs.append({
-                "index": sec.index, "first_segment": sec.first, "last_segment": sec.last,
-                "first_block": self.segments[sec.first].span.block, "last_block": self.segments[sec.last].span.block,
-                "s_start_mm": round(sec.s_start, 9), "length_mm": round(sec.length, 9),
-                "t_start_s": float(self.t0[a]), "t_end_s": float(self.t0[b - 1] + self.h[b - 1]),
-                "engine": "casadi-ipopt", "status": sol.status.value, "iterations": sol.iterations,
-                "solve_time_s": sol.solve_time_s, "intervals": int(b - a),
-            })
+            secs.append(
+                {
+                    "index": sec.index,
+                    "first_segment": sec.first,
+                    "last_segment": sec.last,
+                    "first_block": self.segments[sec.first].span.block,
+                    "last_block": self.segments[sec.last].span.block,
+                    "s_start_mm": round(sec.s_start, 9),
+                    "length_mm": round(sec.length, 9),
+                    "t_start_s": float(self.t0[a]),
+                    "t_end_s": float(self.t0[b - 1] + self.h[b - 1]),
+                    "engine": "casadi-ipopt",
+                    "status": sol.status.value,
+                    "iterations": sol.iterations,
+                    "solve_time_s": sol.solve_time_s,
+                    "intervals": int(b - a),
+                }
+            )
         return {
             "duration_s": self.duration,
             "machine": self.machine.to_json(),
@@ -313,15 +360,42 @@ class JerkTrajectory:
         """Feed profile as CSV (t, s, x, y, z, speed, v, a and jerk per axis, segment, block)."""
         path = Path(path)
         smp = self.sample(dt)
-        cols = ("t_s", "s_mm", "x_mm", "y_mm", "z_mm", "path_speed_mm_s", "vx_mm_s", "vy_mm_s", "vz_mm_s",
-                "ax_mm_s2", "ay_mm_s2", "az_mm_s2", "jx_mm_s3", "jy_mm_s3", "jz_mm_s3", "segment", "block")
+        cols = (
+            "t_s",
+            "s_mm",
+            "x_mm",
+            "y_mm",
+            "z_mm",
+            "path_speed_mm_s",
+            "vx_mm_s",
+            "vy_mm_s",
+            "vz_mm_s",
+            "ax_mm_s2",
+            "ay_mm_s2",
+            "az_mm_s2",
+            "jx_mm_s3",
+            "jy_mm_s3",
+            "jz_mm_s3",
+            "segment",
+            "block",
+        )
         with path.open("w", newline="", encoding="utf-8") as fh:
             w = csv.writer(fh)
             w.writerow(cols)
             for i in range(smp.t.shape[0]):
-                w.writerow([f"{smp.t[i]:.6f}", f"{smp.s[i]:.6f}", *(f"{c:.6f}" for c in smp.xyz[i]), f"{smp.speed[i]:.6f}",
-                            *(f"{c:.6f}" for c in smp.v[i]), *(f"{c:.3f}" for c in smp.a[i]),
-                            *(f"{c:.1f}" for c in smp.j[i]), int(smp.segment[i]), smp.block[i]])
+                w.writerow(
+                    [
+                        f"{smp.t[i]:.6f}",
+                        f"{smp.s[i]:.6f}",
+                        *(f"{c:.6f}" for c in smp.xyz[i]),
+                        f"{smp.speed[i]:.6f}",
+                        *(f"{c:.6f}" for c in smp.v[i]),
+                        *(f"{c:.3f}" for c in smp.a[i]),
+                        *(f"{c:.1f}" for c in smp.j[i]),
+                        int(smp.segment[i]),
+                        smp.block[i],
+                    ]
+                )
         return path
 
     def plot_speed(self, path: str | Path | None = None, ax: Any = None) -> Any:
@@ -331,8 +405,10 @@ class JerkTrajectory:
         return plot_speed(self, path, ax)  # type: ignore[arg-type]
 
     def __repr__(self) -> str:
-        return (f"JerkTrajectory(duration={self.duration:.6f} s, acceleration-limited {self.base.duration:.6f} s, "
-                f"segments={len(self.segments)}, sections={len(self.sections)}, intervals={self.h.shape[0]})")
+        return (
+            f"JerkTrajectory(duration={self.duration:.6f} s, acceleration-limited {self.base.duration:.6f} s, "
+            f"segments={len(self.segments)}, sections={len(self.sections)}, intervals={self.h.shape[0]})"
+        )
 
 
 def jerk_limited(
@@ -394,8 +470,20 @@ def jerk_limited(
         n0 = points if points is not None else min(60 + 30 * nseg, 600)
         spent = 0.0
         for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
-            pb = JerkProblem(sec, arrays, feeds, vmax, amax, jmax, base.s, base.sd, cycle_s=cycle_s, points=n_pts,
-                             label=f" ({label})", init_scale=scale)
+            pb = JerkProblem(
+                sec,
+                arrays,
+                feeds,
+                vmax,
+                amax,
+                jmax,
+                base.s,
+                base.sd,
+                cycle_s=cycle_s,
+                points=n_pts,
+                label=f" ({label})",
+                init_scale=scale,
+            )
             sol = pb.solve()
             spent += sol.solve_time_s
             if sol.ok:
@@ -403,9 +491,10 @@ def jerk_limited(
         sol = replace(sol, solve_time_s=spent)
         if not sol.ok:
             worst = sol.binding or "dynamics_mm"
+            amount = sol.constraint_violation.get(worst, float("nan"))
             raise TimingError(
                 f"jerk-limited feed: IPOPT failed on section {sec.index} ({label}, s={sec.s_start:.6f} mm): "
-                f"{sol.message}; worst constraint group '{worst}' violated by {sol.constraint_violation.get(worst, float('nan')):.3g}; "
+                f"{sol.message}; worst constraint group '{worst}' violated by {amount:.3g}; "
                 "remedy: check the jerk limits of the machine or pass points= for a finer grid",
                 segments[sec.first].span,
                 "TIMING-JERK-SOLVER",

@@ -132,7 +132,12 @@ class JerkProblem:
 
     #: IPOPT options (silent); override per instance or class to experiment
     ipopt_options: dict[str, Any] = {
-        "print_level": 0, "sb": "yes", "tol": 1e-9, "acceptable_tol": 1e-6, "max_iter": 3000, "mu_strategy": "adaptive",
+        "print_level": 0,
+        "sb": "yes",
+        "tol": 1e-9,
+        "acceptable_tol": 1e-6,
+        "max_iter": 3000,
+        "mu_strategy": "adaptive",
     }
 
     def __init__(
@@ -179,12 +184,15 @@ class JerkProblem:
             dq2 = right - left
             self.knot_dq2 = dq2
             with np.errstate(divide="ignore"):
-                cap2 = (self.jmax[None, :] * self.cycle_s / np.where(np.abs(dq2) > CURVATURE_JUMP_TOL, np.abs(dq2), 0.0)).min(axis=1)
+                cap2 = (
+                    self.jmax[None, :] * self.cycle_s / np.where(np.abs(dq2) > CURVATURE_JUMP_TOL, np.abs(dq2), 0.0)
+                ).min(axis=1)
             self.knot_cap = np.sqrt(cap2)
         # estimated speed on a fine sampling of every segment
         fine_n = 200
-        taus, fines, vcaps = [], [], []
-        for q, k in enumerate(segs):
+        parts: list[tuple[np.ndarray, np.ndarray]] = []
+        fines, vcaps = [], []
+        for k in segs:
             loc = (np.arange(fine_n) + 0.5) / fine_n * ar.length[k]
             sg = ar.start[k] + loc
             d1 = ar.eval(np.full(fine_n, k), loc, 1)
@@ -200,12 +208,12 @@ class JerkProblem:
             fines.append(loc)
             vcaps.append(v)
             dv = np.abs(np.diff(np.concatenate(([v[0]], v))))
-            taus.append((ar.length[k] / fine_n / v, dv))
+            parts.append((ar.length[k] / fine_n / v, dv))
         # measure = share of the estimated time + RAMP_SHARE × share of the speed changes: the ramps
         # (where the jerk switches) get their nodes even on long feed-limited runs
-        t_tot = sum(float(t.sum()) for t, _ in taus)
-        r_tot = sum(float(r.sum()) for _, r in taus)
-        taus = [t / t_tot + (RAMP_SHARE * r / r_tot if r_tot > 0 else 0.0) for t, r in taus]
+        t_tot = sum(float(t.sum()) for t, _ in parts)
+        r_tot = sum(float(r.sum()) for _, r in parts)
+        taus = [t / t_tot + (RAMP_SHARE * r / r_tot if r_tot > 0 else 0.0) for t, r in parts]
         tau_seg = np.array([t.sum() for t in taus])
         total = float(tau_seg.sum())
         s_nodes, iseg = [np.array([sec.s_start])], []
@@ -252,11 +260,19 @@ class JerkProblem:
         cap[0] = cap[-1] = 0.0
         self.vcap = cap
         # warm start: estimated speed at the nodes
-        v0 = np.minimum(np.interp(self.s, np.concatenate([sec_f + ar.start[k] for sec_f, k in zip(fines, segs, strict=True)]),
-                                  np.concatenate(vcaps)), cap)
+        v0 = np.minimum(
+            np.interp(
+                self.s,
+                np.concatenate([sec_f + ar.start[k] for sec_f, k in zip(fines, segs, strict=True)]),
+                np.concatenate(vcaps),
+            ),
+            cap,
+        )
         v0[0] = v0[-1] = 0.0
         self.v_init = self.init_scale * v0
-        self.axes_used = np.nonzero((np.abs(self.dl[0]) + np.abs(self.dr[0]) + np.abs(self.dl[1]) + np.abs(self.dr[1])).max(axis=0) > 1e-12)[0]
+        self.axes_used = np.nonzero(
+            (np.abs(self.dl[0]) + np.abs(self.dr[0]) + np.abs(self.dl[1]) + np.abs(self.dr[1])).max(axis=0) > 1e-12
+        )[0]
 
     @property
     def intervals(self) -> int:
@@ -392,15 +408,25 @@ class JerkProblem:
         wall = time.perf_counter() - t0
         V, A, H, Jp = (np.atleast_1d(np.asarray(val(self._vars[k]), dtype=float)).ravel() for k in ("V", "A", "H", "J"))
         prof = SectionProfile(
-            self.s.copy(), np.concatenate(([0.0], np.maximum(V * self.vref, 0.0), [0.0])), np.concatenate(([0.0], A * self.aref, [0.0])), H * self.href, Jp * self.jref,
+            self.s.copy(),
+            np.concatenate(([0.0], np.maximum(V * self.vref, 0.0), [0.0])),
+            np.concatenate(([0.0], A * self.aref, [0.0])),
+            H * self.href,
+            Jp * self.jref,
             self.iseg.copy(),
         )
         viol = self.violations(prof)
         status_text = str(stats.get("return_status", ""))
         converged = status_text in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
-        ok = converged and viol["dynamics_mm"] < 1e-6 and max(viol["velocity"], viol["acceleration"], viol["jerk"]) < 1e-4
-        status = SolveStatus.OPTIMAL if ok else (
-            SolveStatus.INFEASIBLE if "Infeasible" in status_text else SolveStatus.FAILED
+        ok = (
+            converged
+            and viol["dynamics_mm"] < 1e-6
+            and max(viol["velocity"], viol["acceleration"], viol["jerk"]) < 1e-4
+        )
+        status = (
+            SolveStatus.OPTIMAL
+            if ok
+            else (SolveStatus.INFEASIBLE if "Infeasible" in status_text else SolveStatus.FAILED)
         )
         return Solution(status, prof.duration, int(stats.get("iter_count", -1)), wall, prof, viol, status_text)
 
@@ -414,7 +440,9 @@ class JerkProblem:
         vel = float(np.max(np.maximum(p.v - cap, 0.0) / np.maximum(cap, 1.0)))
         acc = jer = 0.0
         for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
-            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (self.amax[None, :] * self.tighten[:, None] * ACC_MARGIN)
+            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (
+                self.amax[None, :] * self.tighten[:, None] * ACC_MARGIN
+            )
             Jx = np.abs(d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]) / (
                 self.jmax[None, :] * self.tighten[:, None] * ACC_MARGIN
             )
