@@ -183,3 +183,15 @@ def test_helix_three_axes():
     assert rep.v_ratio[2] > 0  # Z moves
     smp = traj.sample(1e-3)
     assert smp.xyz[-1] == pytest.approx([10.0, 0.0, -2.0], abs=1e-9)
+
+
+def test_parallel_sections_give_the_same_profile():
+    path = [
+        seg(Line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0)), block="N10"),
+        seg(Line((10.0, 0.0, 0.0), (10.0, 10.0, 0.0)), block="N20"),
+        seg(Line((10.0, 10.0, 0.0), (0.0, 10.0, 0.0)), block="N30"),
+    ]
+    one = jerk_limited(path, ISO)
+    two = jerk_limited(path, ISO, workers=2)
+    assert two.duration == pytest.approx(one.duration, rel=1e-9)
+    assert np.allclose(two.h, one.h)

@@ -150,7 +150,7 @@ class JerkTrajectory:
         arrays: PathArrays,
         sections: Sequence[Section],
         solutions: Sequence[Solution[SectionProfile]],
-        problems: Sequence[JerkProblem],
+        knots: Sequence[tuple[np.ndarray, np.ndarray]],
         base: TimedTrajectory,
         cycle_s: float,
     ) -> None:
@@ -170,8 +170,8 @@ class JerkTrajectory:
         self.jmax = jerk_limits(machine)
         # curvature-jump knots: global s, Δq″ (per axis) and the speed the tool passes them at
         ks, kd, kv = [], [], []
-        for pb, p in zip(problems, profs, strict=True):
-            for node, dq2 in zip(pb.knot_nodes, pb.knot_dq2, strict=True):
+        for (nodes, dq2s), p in zip(knots, profs, strict=True):
+            for node, dq2 in zip(nodes, dq2s, strict=True):
                 ks.append(p.s[node])
                 kd.append(dq2)
                 kv.append(p.v[node])
@@ -419,6 +419,7 @@ def jerk_limited(
     cycle_s: float = 1e-3,
     points: int | None = None,
     tangent_tol_rad: float = 1e-6,
+    workers: int = 1,
 ) -> JerkTrajectory:
     """Jerk-limited time-optimal feed along a tool-centre path.
 
@@ -438,6 +439,8 @@ def jerk_limited(
         Target intervals per section (default ``min(60 + 30·segments, 600)``).
     tangent_tol_rad:
         Tangent discontinuity threshold, rad (same meaning as in ``time_parameterize``).
+    workers:
+        Processes for the sections (independent problems; ``1`` solves in this process).
 
     Raises
     ------
@@ -461,35 +464,22 @@ def jerk_limited(
     arrays = PathArrays(segments)
     feeds = segment_feeds(segments, machine)
     sections = split_sections(segments, arrays, tangent_tol_rad)
-    solutions, problems = [], []
-    for sec in sections:
-        label = section_label(segments, sec)
-        # IPOPT may stop at a local infeasibility from a poor start: retry from a slower warm start,
-        # then on a finer grid, before reporting the section
-        nseg = sec.last - sec.first + 1
-        n0 = points if points is not None else min(60 + 30 * nseg, 600)
-        spent = 0.0
-        for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
-            pb = JerkProblem(
-                sec,
-                arrays,
-                feeds,
-                vmax,
-                amax,
-                jmax,
-                base.s,
-                base.sd,
-                cycle_s=cycle_s,
-                points=n_pts,
-                label=f" ({label})",
-                init_scale=scale,
-            )
-            sol = pb.solve()
-            spent += sol.solve_time_s
-            if sol.ok:
-                break
-        sol = replace(sol, solve_time_s=spent)
+    ctx = (arrays, feeds, vmax, amax, jmax, base.s, base.sd, cycle_s, points)
+    if workers > 1 and len(sections) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(ctx,)) as pool:
+            results = list(pool.map(_solve_section, sections, chunksize=max(1, len(sections) // (4 * workers))))
+    else:
+        _init_worker(ctx)
+        try:
+            results = [_solve_section(sec) for sec in sections]
+        finally:
+            _init_worker(None)
+    solutions, knots = [], []
+    for sec, (sol, knot) in zip(sections, results, strict=True):
         if not sol.ok:
+            label = section_label(segments, sec)
             worst = sol.binding or "dynamics_mm"
             amount = sol.constraint_violation.get(worst, float("nan"))
             raise TimingError(
@@ -500,5 +490,32 @@ def jerk_limited(
                 "TIMING-JERK-SOLVER",
             )
         solutions.append(sol)
-        problems.append(pb)
-    return JerkTrajectory(segments, machine, feeds, arrays, sections, solutions, problems, base, cycle_s)
+        knots.append(knot)
+    return JerkTrajectory(segments, machine, feeds, arrays, sections, solutions, knots, base, cycle_s)
+
+
+_CTX: tuple | None = None
+
+
+def _init_worker(ctx: tuple | None) -> None:
+    global _CTX
+    _CTX = ctx
+
+
+def _solve_section(sec: Section) -> tuple[Solution[SectionProfile], tuple[np.ndarray, np.ndarray]]:
+    """Solve one section; IPOPT may stop at a local infeasibility from a poor start, so retry from a
+    slower warm start, then on a doubled grid. Returns the solution and (knot nodes, Δq″ per knot)."""
+    assert _CTX is not None
+    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points = _CTX
+    nseg = sec.last - sec.first + 1
+    n0 = points if points is not None else min(60 + 30 * nseg, 600)
+    spent = 0.0
+    for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
+        pb = JerkProblem(
+            sec, arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s=cycle_s, points=n_pts, init_scale=scale
+        )
+        sol = pb.solve()
+        spent += sol.solve_time_s
+        if sol.ok:
+            break
+    return replace(sol, solve_time_s=spent), (pb.knot_nodes, pb.knot_dq2)

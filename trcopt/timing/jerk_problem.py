@@ -337,7 +337,7 @@ class JerkProblem:
         opti.set_initial(Jp, guess["j"] / self.jref)
         opti.solver(
             "ipopt",
-            {"expand": True, "print_time": False, "error_on_fail": False},
+            {"expand": False, "print_time": False, "error_on_fail": False},
             dict(self.ipopt_options),
         )
         self._opti = opti
