@@ -145,3 +145,15 @@ def test_rs274_program_with_a_tool_table_option(tmp_path, capsys) -> None:
     assert radii == {12.7}  # T4 D1.0 inch in the table: r = 0.5 in
     assert main(["plan", str(prog), "--tool-table", str(tmp_path / "none.tbl")]) == 2
     assert "cannot read tool table" in capsys.readouterr().err
+
+
+def test_corner_blends_through_the_cli(tmp_path) -> None:
+    out = tmp_path / "c.json"
+    prog = ROOT / "problems" / "corners" / "corner_30deg.mpf"
+    assert main(["plan", str(prog), "--corners", "arc", "--tolerance", "0.1", "--json", str(out)]) == 0
+    plan = json.loads(out.read_text())
+    assert plan["corners"]["mode"] == "arc" and plan["corners"]["blended"] == 1
+    assert 0.05 < plan["corners"]["max_deviation_mm"] <= 0.1
+    exact = tmp_path / "e.json"
+    assert main(["plan", str(prog), "--json", str(exact)]) == 0
+    assert plan["timing"]["duration_s"] < json.loads(exact.read_text())["timing"]["duration_s"]

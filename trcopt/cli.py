@@ -51,6 +51,11 @@ def _add_plan_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--csv", metavar="F", help="write the feed profile as CSV (needs timing)")
     p.add_argument("--png", metavar="F", help="write a speed-profile picture (PNG or SVG by suffix)")
     p.add_argument("--no-timing", action="store_true", help="skip the time parameterisation")
+    p.add_argument(
+        "--corners", default="exact", choices=["exact", "optimal", "arc"],
+        help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
+    )
+    p.add_argument("--tolerance", type=float, default=0.01, help="contour tolerance for --corners, mm (default 0.01)")
     p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
     p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
 
@@ -97,6 +102,8 @@ def _options(args: argparse.Namespace):  # type: ignore[no-untyped-def]
         strict=args.strict,
         tool_table=getattr(args, "tool_table", None),
         tool_unit=getattr(args, "tool_unit", "inch"),
+        corners=getattr(args, "corners", "exact"),
+        tolerance_mm=getattr(args, "tolerance", 0.01),
     )
 
 

@@ -48,6 +48,11 @@ class PlanOptions:
     tool_table, tool_unit:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
         heidenhain); by default the readers look beside the program.
+    corners, tolerance_mm:
+        ``exact`` (the controller's path), or feed-optimised transitions within the contour
+        tolerance ε (mm) at every tangent discontinuity: ``optimal`` (G2 quintics by SQP/OSQP) or
+        ``arc`` (same-ε circular blends, the usual controller smoothing). Applied after the
+        verification of the exact path and before timing.
     """
 
     dialect: str = "auto"
@@ -59,6 +64,8 @@ class PlanOptions:
     strict: bool = False
     tool_table: str | None = None
     tool_unit: str = "inch"
+    corners: str = "exact"
+    tolerance_mm: float = 0.01
 
 
 @dataclass(slots=True)
@@ -126,6 +133,12 @@ class PlanResult:
         ]
         if self.duration is not None:
             lines.append(f"cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
+        corners = self.extra.get("corners")
+        if corners:
+            lines.append(
+                f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended, "
+                f"max deviation {corners['max_deviation_mm']:.4f} mm"
+            )
         if self.verification is not None:
             lines.append(self.verification.summary_line())
             note = self.verification.lead_note()
@@ -198,6 +211,19 @@ def plan(
 
         result.verification = verify_plan(programmed, toolpath, moves, settings)
         result.extra["verification"] = result.verification.to_json()
+    if opts.corners != "exact" and toolpath and result.ok:
+        from .optimize.corners import blend_corners
+
+        blended = blend_corners(
+            toolpath, programmed, tolerance_mm=opts.tolerance_mm, machine=opts.machine, mode=opts.corners
+        )
+        result.toolpath = toolpath = blended.segments
+        result.extra["corners"] = {
+            "mode": opts.corners,
+            "tolerance_mm": opts.tolerance_mm,
+            "blended": blended.blended,
+            "max_deviation_mm": blended.max_deviation_mm,
+        }
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine)
     return result
