@@ -208,7 +208,10 @@ class JerkTrajectory:
     def _samples(self, ts: np.ndarray, i: np.ndarray, tau: np.ndarray) -> JerkSamples:
         s, sd, sdd, sddd = self._states(i, tau)
         seg = self.iseg[i]
-        local = np.clip(s - self.arrays.start[seg], 0.0, self.arrays.length[seg])
+        # derivatives from inside the interval: a Poly's cubic pieces meet at the nodes with a jump of q″
+        pad = np.where(self.arrays.kind[seg] == 2, 1e-6 * (self.s1[i] - self.s0[i]), 0.0)
+        local = np.clip(s, self.s0[i] + pad, self.s1[i] - pad) - self.arrays.start[seg]
+        local = np.clip(local, 0.0, self.arrays.length[seg])
         p = self.arrays.eval(seg, local, 0)
         d1, d2, d3 = path_derivatives(self.arrays, seg, local)
         v = d1 * sd[:, None]

@@ -230,6 +230,14 @@ class JerkProblem:
             sfine[-1] = ar.length[k]
             loc = np.interp(np.linspace(0.0, cum[-1], n + 1), cum, sfine)
             loc[0], loc[-1] = 0.0, ar.length[k]
+            if ar.kind[k] == 2:
+                # a Poly is a chain of cubic Hermite pieces (q″ jumps, q‴ constant per piece): every
+                # sample joint is a node so that each interval lies on one piece
+                joints = np.asarray(ar.evals[k].segment.geometry.cum, dtype=float)  # type: ignore[union-attr]
+                loc = np.unique(np.concatenate((loc, joints[(joints > 0) & (joints < ar.length[k])])))
+                loc = loc[np.concatenate(([True], np.diff(loc) > 1e-9))]
+                loc[-1] = ar.length[k]
+                n = loc.shape[0] - 1
             s_nodes.append(ar.start[k] + loc[1:])
             iseg.append(np.full(n, k))
         self.s = np.concatenate(s_nodes)
@@ -242,8 +250,10 @@ class JerkProblem:
         self.delta = np.diff(self.s)
         if np.any(self.delta <= 0):
             raise TimingError(f"section {sec.index}{self.label}: degenerate jerk grid", code="TIMING-JERK-GRID")
-        self.dl = path_derivatives(ar, self.iseg, lo)
-        self.dr = path_derivatives(ar, self.iseg, hi)
+        # derivatives inside the interval (Poly pieces are located by bisection, so nudge inwards)
+        nudge = np.where(ar.kind[self.iseg] == 2, 1e-6 * self.delta, 0.0)
+        self.dl = path_derivatives(ar, self.iseg, lo + nudge)
+        self.dr = path_derivatives(ar, self.iseg, hi - nudge)
         rate = np.where(ar.kind[self.iseg] == 1, np.abs(ar.arc[self.iseg, 4]), 0.0)
         self.tighten = np.cos(0.5 * rate * self.delta)
         # node speed caps: feed and per-axis velocity on both adjacent intervals, knot caps
@@ -255,8 +265,14 @@ class JerkProblem:
         cap = np.full(n_int + 1, np.inf)
         cap[:-1] = np.minimum(cap[:-1], np.minimum(vl, f))
         cap[1:] = np.minimum(cap[1:], np.minimum(vr, f))
-        self.knot_nodes = np.searchsorted(self.s, knot_s)
-        cap[self.knot_nodes] = np.minimum(cap[self.knot_nodes], self.knot_cap)
+        # curvature jumps at interior nodes (segment joints, Poly piece joints): |Δq″_k| v² ≤ jmax_k T_c
+        dq2 = self.dl[1][1:] - self.dr[1][:-1]
+        jump = (np.abs(dq2) > CURVATURE_JUMP_TOL).any(axis=1)
+        self.knot_nodes = np.nonzero(jump)[0] + 1
+        self.knot_dq2 = dq2[jump]
+        with np.errstate(divide="ignore"):
+            kc2 = (self.jmax[None, :] * self.cycle_s / np.abs(self.knot_dq2)).min(axis=1)
+        cap[self.knot_nodes] = np.minimum(cap[self.knot_nodes], np.sqrt(kc2))
         cap[0] = cap[-1] = 0.0
         self.vcap = cap
         # warm start: estimated speed at the nodes
@@ -330,6 +346,7 @@ class JerkProblem:
                 opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
                 opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
         self._arc_midpoint_rows(opti, ca, v0, a0, h, jj)
+        self._poly_midpoint_rows(opti, ca, v0, a0, h, jj)
         opti.minimize(ca.sum1(H) / n)
         opti.set_initial(Vi, guess["v"][1:-1] / self.vref)
         opti.set_initial(A, guess["a"][1:-1] / self.aref)
@@ -380,6 +397,27 @@ class JerkProblem:
                 jerk = mask * (uvw3[comp] * sd**3 + 3 * uvw2[comp] * sd * sdd + uvw1[comp] * j) / self.jmax[k]
                 opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
                 opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
+
+    def _poly_midpoint_rows(self, opti: Any, ca: Any, v0: Any, a0: Any, h: Any, jj: Any) -> None:
+        """The same midpoint rows on Poly intervals: inside one cubic Hermite piece q‴ is constant,
+        so q″ and q′ at the midpoint follow exactly from the values at the interval start."""
+        idx = np.nonzero(self.arrays.kind[self.iseg] == 2)[0]
+        if idx.shape[0] == 0:
+            return
+        rows = [int(i) for i in idx]
+        v, a, hh, j = v0[rows], a0[rows], h[rows], jj[rows]
+        sdd = a + j * hh / 2
+        sd = v + a * hh / 2 + j * hh**2 / 8
+        sig = v * hh / 2 + a * hh**2 / 8 + j * hh**3 / 48
+        d1, d2, d3 = (x[idx] for x in self.dl)
+        for k in self.axes_used:
+            q3 = ca.DM(d3[:, k])
+            q2 = ca.DM(d2[:, k]) + q3 * sig
+            q1 = ca.DM(d1[:, k]) + ca.DM(d2[:, k]) * sig + q3 * sig**2 / 2
+            acc = (q1 * sdd + q2 * sd**2) / self.amax[k]
+            jerk = (q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j) / self.jmax[k]
+            opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
+            opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
 
     @property
     def opti(self) -> Any:
