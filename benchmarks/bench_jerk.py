@@ -117,7 +117,7 @@ def part_polygons() -> dict[str, list[tuple[float, float]]]:
         if k < 5:
             comb.append((x0 - 8.0, 12.0))
     comb += [(0.0, -6.0), (24.0, -6.0)]
-    return {"square 40": square, "star 10 corners": star, "comb 24 corners": _dedupe(comb)}
+    return {"square 40": square, "star 10 corners": star, "comb 26 corners": _dedupe(comb)}
 
 
 def _dedupe(pts: list[tuple[float, float]]) -> list[tuple[float, float]]:
