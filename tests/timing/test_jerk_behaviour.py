@@ -195,3 +195,27 @@ def test_parallel_sections_give_the_same_profile():
     two = jerk_limited(path, ISO, workers=2)
     assert two.duration == pytest.approx(one.duration, rel=1e-9)
     assert np.allclose(two.h, one.h)
+
+
+def test_poly_transition_nodes_on_every_hermite_joint_and_limits_hold():
+    from trcopt.geometry import hermite_curve
+
+    # a G2 quintic 90° transition between two lines, stored as a Poly (cubic Hermite pieces)
+    quint = hermite_curve(
+        (9.0, 0.0, 0.0), (2.0, 0.0, 0.0), (10.0, 1.0, 0.0), (0.0, 2.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    )
+    path = [
+        seg(Line((0.0, 0.0, 0.0), (9.0, 0.0, 0.0)), block="N10"),
+        seg(quint, block="N20"),
+        seg(Line((10.0, 1.0, 0.0), (10.0, 10.0, 0.0)), block="N30"),
+    ]
+    traj = jerk_limited(path, ISO)
+    assert len(traj.sections) == 1
+    start = traj.time_at_segment_starts()
+    joints = np.asarray(quint.cum)[1:-1] + 9.0
+    assert np.all(np.isin(np.round(joints, 9), np.round(traj.s0, 9)))  # every Hermite joint is a node
+    assert traj.knot_s.shape[0] >= joints.shape[0]  # q″ jumps there (cubic pieces), treated as knots
+    rep = traj.check_limits(dt=1e-4)
+    assert rep.ok, str(rep)
+    assert max(rep.jerk_smooth_ratio) <= 1.01 and max(rep.jerk_knot_ratio) <= 1.0 + 1e-6
+    assert start[1] < start[2] < traj.duration
