@@ -136,7 +136,7 @@ class JerkProblem:
         "sb": "yes",
         "tol": 1e-9,
         "acceptable_tol": 1e-6,
-        "max_iter": 3000,
+        "max_iter": 400,  # converged solves take 20–150; a stuck start is retried instead
         "mu_strategy": "adaptive",
     }
 
