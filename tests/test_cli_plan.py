@@ -157,3 +157,35 @@ def test_corner_blends_through_the_cli(tmp_path) -> None:
     exact = tmp_path / "e.json"
     assert main(["plan", str(prog), "--json", str(exact)]) == 0
     assert plan["timing"]["duration_s"] < json.loads(exact.read_text())["timing"]["duration_s"]
+
+
+def test_jerk_limited_feed_through_the_cli(tmp_path, capsys) -> None:
+    prog = ROOT / "problems" / "corners" / "pocket_square.mpf"
+    acc, jerk = tmp_path / "a.json", tmp_path / "j.json"
+    assert main(["plan", str(prog), "--json", str(acc)]) == 0
+    assert main(["plan", str(prog), "--jerk", "--json", str(jerk), "--csv", str(tmp_path / "j.csv")]) == 0
+    assert "jerk-limited cycle time" in capsys.readouterr().out
+    a, j = json.loads(acc.read_text())["timing"], json.loads(jerk.read_text())["timing"]
+    assert j["jerk_limited"] is True and j["limits_ok"] is True
+    assert max(j["max_jerk_ratio"].values()) <= 1.0 + 1e-3 and j["jerk_report"]["ok"] is True
+    # bounded jerk costs time: never faster than the acceleration-limited optimum of the same path
+    assert j["acceleration_limited_duration_s"] == pytest.approx(a["duration_s"], rel=1e-9)
+    assert a["duration_s"] < j["duration_s"] < 2.0 * a["duration_s"]
+    header = (tmp_path / "j.csv").read_text().splitlines()[0].split(",")
+    assert {"jx_mm_s3", "jy_mm_s3", "jz_mm_s3"} <= set(header)
+
+
+def test_jerk_mode_without_jerk_limits_keeps_the_acceleration_limited_feed(tmp_path, capsys) -> None:
+    machine = tmp_path / "m.toml"
+    machine.write_text(
+        'name = "no jerk"\n'
+        "[axes.X]\nvmax_mm_s = 250\namax_mm_s2 = 2000\n"
+        "[axes.Y]\nvmax_mm_s = 250\namax_mm_s2 = 2000\n"
+        "[axes.Z]\nvmax_mm_s = 100\namax_mm_s2 = 1000\n"
+    )
+    out = tmp_path / "p.json"
+    assert main(["plan", str(SQUARE), "--jerk", "--machine", str(machine), "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "jerk-limited feed not computed" in text and "jmax_mm_s3" in text
+    timing = json.loads(out.read_text())["timing"]
+    assert timing["duration_s"] > 0 and not timing.get("jerk_limited", False)

@@ -56,6 +56,10 @@ def _add_plan_arguments(p: argparse.ArgumentParser) -> None:
         help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
     )
     p.add_argument("--tolerance", type=float, default=0.01, help="contour tolerance for --corners, mm (default 0.01)")
+    p.add_argument(
+        "--jerk", action="store_true",
+        help="jerk-limited feed (needs jmax_mm_s3 on every machine axis; IPOPT per section, slower)",
+    )
     p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
     p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
 
@@ -104,6 +108,7 @@ def _options(args: argparse.Namespace):  # type: ignore[no-untyped-def]
         tool_unit=getattr(args, "tool_unit", "inch"),
         corners=getattr(args, "corners", "exact"),
         tolerance_mm=getattr(args, "tolerance", 0.01),
+        jerk=getattr(args, "jerk", False),
     )
 
 

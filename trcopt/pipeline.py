@@ -53,6 +53,10 @@ class PlanOptions:
         tolerance ε (mm) at every tangent discontinuity: ``optimal`` (G2 quintics by SQP/OSQP) or
         ``arc`` (same-ε circular blends, the usual controller smoothing). Applied after the
         verification of the exact path and before timing.
+    jerk:
+        Replace the acceleration-limited feed by the jerk-limited one
+        (:func:`trcopt.timing.jerk.jerk_limited`, CasADi/IPOPT per section, warm-started from
+        TOPP-RA); needs ``jmax_mm_s3`` on every axis of the machine. Slower (tens of segments/s).
     """
 
     dialect: str = "auto"
@@ -66,6 +70,7 @@ class PlanOptions:
     tool_unit: str = "inch"
     corners: str = "exact"
     tolerance_mm: float = 0.01
+    jerk: bool = False
 
 
 @dataclass(slots=True)
@@ -132,7 +137,8 @@ class PlanResult:
             f"{len(self.toolpath)} tool-centre segments, path length {self.path_length:.3f} mm",
         ]
         if self.duration is not None:
-            lines.append(f"cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
+            kind = "jerk-limited " if getattr(self.timing, "jerk_limited", False) else ""
+            lines.append(f"{kind}cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
         corners = self.extra.get("corners")
         if corners:
             lines.append(
@@ -225,7 +231,7 @@ def plan(
             "max_deviation_mm": blended.max_deviation_mm,
         }
     if opts.timing and toolpath:
-        _attach_timing(result, opts.machine)
+        _attach_timing(result, opts.machine, jerk=opts.jerk)
     return result
 
 
@@ -244,7 +250,7 @@ def _attach_toolholder(result: PlanResult) -> None:
     result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
 
 
-def _attach_timing(result: PlanResult, machine: Machine) -> None:
+def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False) -> None:
     try:
         from .timing import time_parameterize
     except ImportError:  # the timing stage is optional at this layer
@@ -252,10 +258,22 @@ def _attach_timing(result: PlanResult, machine: Machine) -> None:
     try:
         result.timing = time_parameterize(result.toolpath, machine)
     except TrcoptError as exc:
-        diag = exc.to_diagnostic()
-        result.diagnostics.append(
-            Diagnostic(Severity.WARNING, diag.code, f"timing not computed: {diag.message}", diag.span or SourceSpan())
-        )
+        _timing_warning(result, exc, "timing not computed")
+        return
+    if jerk:
+        from .timing.jerk import jerk_limited
+
+        try:
+            result.timing = jerk_limited(result.toolpath, machine, base=result.timing)
+        except TrcoptError as exc:
+            _timing_warning(result, exc, "jerk-limited feed not computed (the acceleration-limited feed is kept)")
+
+
+def _timing_warning(result: PlanResult, exc: TrcoptError, what: str) -> None:
+    diag = exc.to_diagnostic()
+    result.diagnostics.append(
+        Diagnostic(Severity.WARNING, diag.code, f"{what}: {diag.message}", diag.span or SourceSpan())
+    )
 
 
 def plan_file(path: str | Path, options: PlanOptions | None = None) -> PlanResult:
