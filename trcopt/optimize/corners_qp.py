@@ -330,33 +330,45 @@ class CornerBlendProblem:
     def qp_matrices(
         self, x: np.ndarray | None = None, trust: float | None = None
     ) -> tuple[Any, np.ndarray, Any, np.ndarray, np.ndarray]:
-        """OSQP data (P, q, A, l, u) of the SQP step at ``x`` in the variables (Δx, t).
+        """OSQP data (P, q, A, l, u) of the SQP step at ``x`` in the scaled variables (y, t),
+        ``y = Δx/L`` with ``L = sa + sb`` (:meth:`step_scale`):
 
-        min t + ½·ρ·|Δx/L|²  s.t.  |κ_k| + ∇|κ_k|·Δx ≤ t,  g + ∇g·Δx ≤ 0,  bounds, |Δx| ≤ trust.
+        min t + ½·ρ·|y|²  s.t.  (|κ_k| + ∇|κ_k|·L·y)/κ_ref ≤ t,  (g + ∇g·L·y)/ε ≤ 0,  bounds,
+        |y| ≤ trust/L. Curvature rows are scaled by the current peak curvature and deviation/
+        clearance rows by ε, so every row is of order one. Rows that cannot become active inside
+        the trust box are left out (exactly the same QP solution; most probes are swept and have a
+        zero gradient).
         """
         import scipy.sparse as sp
 
         x = self.x0 if x is None else x
-        L = max(float(x[0] + x[3]), 1e-6)
+        L = self.step_scale(x)
         trust = 0.5 * L if trust is None else trust
         k0, g0, Jk, Jg = self._linearise(x)
         n = self.N_VAR
         kref = max(float(k0.max()), 1e-9)
-        # scale curvature rows by kref so the problem is well conditioned
-        rows_k = np.hstack((Jk / kref, -np.ones((k0.shape[0], 1))))
-        rows_g = np.hstack((Jg, np.zeros((g0.shape[0], 1))))
+        lo_b, hi_b = self._bounds()
+        reach = np.abs(Jg) @ np.minimum(trust, np.maximum(hi_b - x, x - lo_b))
+        live = g0 + reach > 0.0
+        Jg, g0 = Jg[live], g0[live]
+        rows_k = np.hstack((Jk * (L / kref), -np.ones((k0.shape[0], 1))))
+        rows_g = np.hstack((Jg * (L / self.eps), np.zeros((g0.shape[0], 1))))
         rows_b = np.hstack((np.eye(n), np.zeros((n, 1))))
         A = np.vstack((rows_k, rows_g, rows_b))
-        lo_b, hi_b = self._bounds()
         lower = np.concatenate(
-            (np.full(k0.shape[0], -np.inf), np.full(g0.shape[0], -np.inf), np.maximum(lo_b - x, -trust))
+            (np.full(k0.shape[0], -np.inf), np.full(g0.shape[0], -np.inf), np.maximum(lo_b - x, -trust) / L)
         )
-        upper = np.concatenate((-k0 / kref, -g0, np.minimum(hi_b - x, trust)))
+        upper = np.concatenate((-k0 / kref, -g0 / self.eps, np.minimum(hi_b - x, trust) / L))
         lower = np.minimum(lower, upper)
-        rho = 1e-2
-        P = sp.diags(np.append(np.full(n, rho / (L * L)), 0.0)).tocsc()
+        rho = 1e-1
+        P = sp.diags(np.append(np.full(n, rho), 0.0)).tocsc()
         q = np.append(np.zeros(n), 1.0)
         return P, q, sp.csc_matrix(A), lower, upper
+
+    @staticmethod
+    def step_scale(x: np.ndarray) -> float:
+        """Length scale L of the QP variables (``Δx = L·y``), mm."""
+        return max(float(x[0] + x[3]), 1e-6)
 
     # ---------------------------------------------------------------- solve
     def _merit(self, x: np.ndarray) -> tuple[float, float]:
@@ -391,7 +403,7 @@ class CornerBlendProblem:
                     status_msg = f"osqp: {res.info.status}"
                     break
                 continue
-            dx = np.asarray(res.x[: self.N_VAR])
+            dx = self.step_scale(x) * np.asarray(res.x[: self.N_VAR])
             xn = x + dx
             fn, vn = self._merit(xn)
             mu = 10.0 * max(f, 1e-6) / max(self.eps, 1e-9)
