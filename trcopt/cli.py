@@ -60,6 +60,10 @@ def _add_plan_arguments(p: argparse.ArgumentParser) -> None:
         "--jerk", action="store_true",
         help="jerk-limited feed (needs jmax_mm_s3 on every machine axis; IPOPT per section, slower)",
     )
+    p.add_argument(
+        "--workers", type=_workers, default=0,
+        help="processes for --corners optimal and --jerk (default 0: one per CPU core)",
+    )
     p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
     p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
 
@@ -109,7 +113,21 @@ def _options(args: argparse.Namespace):  # type: ignore[no-untyped-def]
         corners=getattr(args, "corners", "exact"),
         tolerance_mm=getattr(args, "tolerance", 0.01),
         jerk=getattr(args, "jerk", False),
+        workers=getattr(args, "workers", 1),
     )
+
+
+def _workers(text: str) -> int:
+    """``--workers`` value: a non-negative integer; 0 means one process per CPU core."""
+    import os
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 (one per CPU core) or positive, got {value}")
+    return value or os.cpu_count() or 1
 
 
 def _print_diagnostics(result) -> None:  # type: ignore[no-untyped-def]

@@ -57,6 +57,9 @@ class PlanOptions:
         Replace the acceleration-limited feed by the jerk-limited one
         (:func:`trcopt.timing.jerk.jerk_limited`, CasADi/IPOPT per section, warm-started from
         TOPP-RA); needs ``jmax_mm_s3`` on every axis of the machine. Slower (tens of segments/s).
+    workers:
+        Processes for the independent per-corner problems of ``corners="optimal"`` and the
+        sections of the jerk-limited feed (``1``: everything in this process).
     """
 
     dialect: str = "auto"
@@ -71,6 +74,7 @@ class PlanOptions:
     corners: str = "exact"
     tolerance_mm: float = 0.01
     jerk: bool = False
+    workers: int = 1
 
 
 @dataclass(slots=True)
@@ -221,7 +225,12 @@ def plan(
         from .optimize.corners import blend_corners
 
         blended = blend_corners(
-            toolpath, programmed, tolerance_mm=opts.tolerance_mm, machine=opts.machine, mode=opts.corners
+            toolpath,
+            programmed,
+            tolerance_mm=opts.tolerance_mm,
+            machine=opts.machine,
+            mode=opts.corners,
+            workers=opts.workers,
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
@@ -231,7 +240,7 @@ def plan(
             "max_deviation_mm": blended.max_deviation_mm,
         }
     if opts.timing and toolpath:
-        _attach_timing(result, opts.machine, jerk=opts.jerk)
+        _attach_timing(result, opts.machine, jerk=opts.jerk, workers=opts.workers)
     return result
 
 
@@ -250,7 +259,7 @@ def _attach_toolholder(result: PlanResult) -> None:
     result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
 
 
-def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False) -> None:
+def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, workers: int = 1) -> None:
     try:
         from .timing import time_parameterize
     except ImportError:  # the timing stage is optional at this layer
@@ -264,7 +273,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False) 
         from .timing.jerk import jerk_limited
 
         try:
-            result.timing = jerk_limited(result.toolpath, machine, base=result.timing)
+            result.timing = jerk_limited(result.toolpath, machine, base=result.timing, workers=workers)
         except TrcoptError as exc:
             _timing_warning(result, exc, "jerk-limited feed not computed (the acceleration-limited feed is kept)")
 

@@ -99,3 +99,15 @@ def test_exact_mode_is_identity_and_modes_are_validated(corner):
     assert CornerMode.parse("arc") is CornerMode.ARC
     with pytest.raises(ValueError, match="valid: exact, optimal, arc"):
         CornerMode.parse("smooth")
+
+
+def test_corner_problems_in_worker_processes_match_in_process(monkeypatch):
+    import trcopt.optimize.corners as corners_mod
+
+    r = plan_file(ROOT / "problems" / "corners" / "pocket_square.mpf", PlanOptions(timing=False))
+    serial = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
+    monkeypatch.setattr(corners_mod, "PARALLEL_MIN_CORNERS", 2)
+    parallel = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", workers=2)
+    assert serial.blended == parallel.blended == 4
+    assert [s.geometry.end for s in serial.segments] == [s.geometry.end for s in parallel.segments]
+    assert parallel.max_deviation_mm == serial.max_deviation_mm <= EPS

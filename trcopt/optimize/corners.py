@@ -40,6 +40,7 @@ __all__ = [
 MAX_TURN_RAD = math.radians(170.0)
 TANGENT_TOL_RAD = 1e-6
 TARGET_MARGIN = 2e-3
+PARALLEL_MIN_CORNERS = 8  # fewer corner problems are solved in-process (a pool costs ~1 s to start)
 
 
 class CornerMode(enum.Enum):
@@ -314,6 +315,7 @@ def blend_corners(
     tolerance_mm: float,
     machine: object | None = None,
     mode: str | CornerMode = CornerMode.OPTIMAL,
+    workers: int = 1,
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
 
@@ -331,6 +333,8 @@ def blend_corners(
     mode:
         ``"optimal"`` (G2 quintics by SQP/OSQP), ``"arc"`` (largest same-ε circular blends, G1) or
         ``"exact"`` (unchanged).
+    workers:
+        Processes for the per-corner problems (independent; ``1`` solves in this process).
     """
     mode = CornerMode.parse(mode)
     segs = list(toolpath)
@@ -340,8 +344,11 @@ def blend_corners(
     # a small margin for the difference between the per-corner and the global sampling
     eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
     result = CornerResult(segs, [], 0.0, mode)
+    solved: dict[tuple[int, float], CornerSolution] = {}
     for _round in range(4):
-        result = _assemble(segs, sites, eps_of, mode)
+        if mode is CornerMode.OPTIMAL:
+            _solve_sites([(k, site, eps_of[k]) for k, site in sites if (k, eps_of[k]) not in solved], solved, workers)
+        result = _assemble(segs, sites, eps_of, mode, solved)
         dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
         result.max_deviation_mm = dev
         if dev <= tolerance_mm or where is None:
@@ -352,8 +359,30 @@ def blend_corners(
     return result
 
 
+def _solve_one(job: tuple[int, CornerSite, float]) -> tuple[tuple[int, float], CornerSolution]:
+    k, site, eps = job
+    return (k, eps), CornerBlendProblem(site, eps).solve()
+
+
+def _solve_sites(
+    jobs: list[tuple[int, CornerSite, float]], solved: dict[tuple[int, float], CornerSolution], workers: int
+) -> None:
+    """Solve the corner problems of ``jobs`` into ``solved`` (keyed by corner index and ε)."""
+    if workers > 1 and len(jobs) >= PARALLEL_MIN_CORNERS:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            solved.update(pool.map(_solve_one, jobs, chunksize=max(1, len(jobs) // (4 * workers))))
+    else:
+        solved.update(map(_solve_one, jobs))
+
+
 def _assemble(
-    segs: list[Segment], sites: list[tuple[int, CornerSite]], eps_of: dict[int, float], mode: CornerMode
+    segs: list[Segment],
+    sites: list[tuple[int, CornerSite]],
+    eps_of: dict[int, float],
+    mode: CornerMode,
+    solved: dict[tuple[int, float], CornerSolution],
 ) -> CornerResult:
     lam0 = [0.0] * len(segs)
     lam1 = [1.0] * len(segs)
@@ -374,8 +403,7 @@ def _assemble(
             kmax = 1.0 / geom.radius
             sol = None
         else:
-            problem = CornerBlendProblem(site, eps)
-            sol = problem.solve()
+            sol = solved[(k, eps)]
             if not sol.ok:
                 records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=sol.message))
                 continue
@@ -415,9 +443,12 @@ def optimize_corners(
     tolerance_mm: float,
     machine: object | None = None,
     mode: str | CornerMode = "optimal",
+    workers: int = 1,
 ) -> list[Segment]:
     """New tool-centre path with tolerance-bounded corner transitions (see :func:`blend_corners`)."""
-    return blend_corners(toolpath, programmed, tolerance_mm=tolerance_mm, machine=machine, mode=mode).segments
+    return blend_corners(
+        toolpath, programmed, tolerance_mm=tolerance_mm, machine=machine, mode=mode, workers=workers
+    ).segments
 
 
 # ------------------------------------------------------------------------------------- measure
