@@ -10,6 +10,7 @@ independent no-gouge check (tests/gouge.py) and the sampled cut-part deviation
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -26,6 +27,7 @@ from trcopt.optimize.corners import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
+WORKERS = os.cpu_count() or 1
 DEFAULT = ["corner_30deg", "pocket_square", "star_g451", "cam_quarter_circle"]
 
 
@@ -43,7 +45,7 @@ def main(argv: list[str]) -> None:
     hdr = (
         f"{'contour':20s} {'eps':>6s} {'T_exact':>8s} {'T_arc':>8s} {'T_opt':>8s} {'exact/opt':>9s} "
         f"{'arc/opt':>8s} {'T_jd':>7s} {'jd_acc':>7s} {'dev_arc':>8s} {'dev_opt':>8s} {'goug':>4s} "
-        f"{'corners':>8s} {'wall_s':>7s}"
+        f"{'corners':>8s} {'q/arc':>7s} {'wall_s':>7s}"
     )
     print(hdr)
     for f in files:
@@ -53,7 +55,7 @@ def main(argv: list[str]) -> None:
             res_arc = blend_corners(r.toolpath, r.programmed, tolerance_mm=eps, mode="arc")
             t_arc = time_parameterize(res_arc.segments, m).duration
             w0 = time.perf_counter()
-            res = blend_corners(r.toolpath, r.programmed, tolerance_mm=eps, mode="optimal")
+            res = blend_corners(r.toolpath, r.programmed, tolerance_mm=eps, mode="optimal", workers=WORKERS)
             wall = time.perf_counter() - w0
             t_opt = time_parameterize(res.segments, m).duration
             t_jd, jd_ratio = grbl_jd([s for s in r.toolpath if not s.is_rapid], m, delta=eps)
@@ -61,7 +63,8 @@ def main(argv: list[str]) -> None:
             print(
                 f"{f.stem:20s} {eps:6.3f} {t_exact:8.4f} {t_arc:8.4f} {t_opt:8.4f} {t_exact / t_opt:9.3f} "
                 f"{t_arc / t_opt:8.4f} {t_jd:7.4f} {jd_ratio:7.1f} {res_arc.max_deviation_mm:8.5f} "
-                f"{res.max_deviation_mm:8.5f} {g:4d} {res.blended:3d}/{len(res.corners):<4d} {wall:7.2f}",
+                f"{res.max_deviation_mm:8.5f} {g:4d} {res.blended:3d}/{len(res.corners):<4d} "
+                f"{res.count('quintic'):3d}/{res.count('arc'):<3d} {wall:7.2f}",
                 flush=True,
             )
 

@@ -146,7 +146,8 @@ class PlanResult:
         corners = self.extra.get("corners")
         if corners:
             lines.append(
-                f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended, "
+                f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended "
+                f"({corners['quintic']} G2 quintic, {corners['arc']} circular), "
                 f"max deviation {corners['max_deviation_mm']:.4f} mm"
             )
         if self.verification is not None:
@@ -231,12 +232,15 @@ def plan(
             machine=opts.machine,
             mode=opts.corners,
             workers=opts.workers,
+            select=not opts.jerk,
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
             "mode": opts.corners,
             "tolerance_mm": opts.tolerance_mm,
             "blended": blended.blended,
+            "quintic": blended.count("quintic"),
+            "arc": blended.count("arc"),
             "max_deviation_mm": blended.max_deviation_mm,
         }
     if opts.timing and toolpath:

@@ -22,10 +22,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..geometry import Arc, Line, hermite_curve
+from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
-from .corners_qp import CornerBlendProblem, CornerSite, CornerSolution, material_left
+from ..config import DEFAULT_MACHINE, Machine
+from .corners_qp import CornerBlendProblem, CornerGeometry, CornerSite, CornerSolution, material_left, quintic_basis
 from .model import points_distance
+from .verify import part_contour
 
 __all__ = [
     "CornerMode",
@@ -71,6 +73,7 @@ class CornerRecord:
     span_mm: float | None = None  # sa + sb
     solution: CornerSolution | None = None
     reason: str = ""
+    transition: str = ""  # "quintic" (G2) or "arc" (G1 circular blend); "" when not blended
 
 
 @dataclass
@@ -85,6 +88,10 @@ class CornerResult:
     @property
     def blended(self) -> int:
         return sum(c.blended for c in self.corners)
+
+    def count(self, transition: str) -> int:
+        """Corners blended with ``transition`` (``"quintic"`` or ``"arc"``)."""
+        return sum(c.blended and c.transition == transition for c in self.corners)
 
 
 # ------------------------------------------------------------------------------------- sites
@@ -212,13 +219,11 @@ def find_corner_sites(
     """The tangent discontinuities that may be blended and their constraint data."""
     joints = _joint_indices(toolpath)
     at = set(joints)
+    # the part contour (as the verification sees it): approach/retraction blocks are not part of it
     contour = [
         p
-        for p in programmed
-        if p.role is Role.CONTOUR
-        and isinstance(p.geometry, Line | Arc)
-        and p.geometry.plane_length > 0
-        and not p.is_rapid
+        for p in part_contour(programmed, toolpath)
+        if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
     sites = []
     for k in joints:
@@ -313,9 +318,10 @@ def blend_corners(
     programmed: Sequence[Segment],
     *,
     tolerance_mm: float,
-    machine: object | None = None,
+    machine: Machine | None = None,
     mode: str | CornerMode = CornerMode.OPTIMAL,
     workers: int = 1,
+    select: bool = True,
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
 
@@ -328,13 +334,17 @@ def blend_corners(
     tolerance_mm:
         Contour tolerance ε, mm: material left beyond the exact cut ≤ ε.
     machine:
-        Reserved for curvature-jump smoothing under jerk limits (the timing stage is acceleration
-        limited, so it is not used yet).
+        Axis limits for the choice between G2 and circular transitions (``select``).
     mode:
         ``"optimal"`` (G2 quintics by SQP/OSQP), ``"arc"`` (largest same-ε circular blends, G1) or
         ``"exact"`` (unchanged).
     workers:
         Processes for the per-corner problems (independent; ``1`` solves in this process).
+    select:
+        ``optimal`` only: time the G2 plan, the same-ε circular blends and a per-corner mix of
+        both on ``machine`` (the default machine when omitted) and return the fastest, so the
+        result is never slower than the circular blends. ``False`` keeps the G2 transitions
+        wherever they are feasible (wanted under jerk limits, where curvature continuity pays).
     """
     mode = CornerMode.parse(mode)
     segs = list(toolpath)
@@ -356,7 +366,74 @@ def blend_corners(
         # tighten the corner closest to the worst probe and try again
         k_bad = min(sites, key=lambda ks: float(np.hypot(*(ks[1].joint - where))))[0]
         eps_of[k_bad] *= 0.98 * tolerance_mm / max(dev, tolerance_mm)
+    if mode is CornerMode.OPTIMAL and select and result.count("quintic"):
+        result = _fastest(segs, programmed, sites, eps_of, solved, result, tolerance_mm, machine)
     return result
+
+
+def _fastest(
+    segs: list[Segment],
+    programmed: Sequence[Segment],
+    sites: list[tuple[int, CornerSite]],
+    eps_of: dict[int, float],
+    solved: dict[tuple[int, float], CornerSolution],
+    optimal: CornerResult,
+    tolerance_mm: float,
+    machine: Machine | None,
+) -> CornerResult:
+    """The fastest of: G2 transitions everywhere, same-ε circular blends everywhere, and a per-corner
+    choice by a local time estimate — timed by the timing stage, never slower than the circular
+    blends. The G2 quintics need zero curvature where they meet a line, so between short chords
+    (CAM polylines) a circular blend of the same ε can carry more speed under acceleration limits."""
+    from ..timing import time_parameterize
+
+    m = machine or DEFAULT_MACHINE
+    arc = blend_corners(segs, programmed, tolerance_mm=tolerance_mm, mode=CornerMode.ARC)
+    t_opt = time_parameterize(optimal.segments, m).duration
+    t_arc = time_parameterize(arc.segments, m).duration
+    best, t_best = (optimal, t_opt) if t_opt <= t_arc else (arc, t_arc)
+    a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
+    choice = {}
+    for k, site in sites:
+        sol = solved.get((k, eps_of[k]))
+        built = _arc_blend(site, eps_of[k])
+        if sol is None or not sol.ok or built is None:
+            continue
+        feed = m.rapid_mm_s if segs[k].feed_mm_s is None else float(segs[k].feed_mm_s)
+        choice[k] = "quintic" if _local_time(sol.geometry, built, feed, a_lat) <= 0.0 else "arc"
+    if set(choice.values()) == {"quintic", "arc"}:
+        hybrid = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, choice)
+        hybrid.max_deviation_mm = cut_deviation(programmed, segs, hybrid.segments)
+        if hybrid.max_deviation_mm <= tolerance_mm:
+            t_h = time_parameterize(hybrid.segments, m).duration
+            if t_h < t_best:
+                best, t_best = hybrid, t_h
+    if best is arc:
+        # keep the G2 solutions in the records: the report says why each corner is circular
+        best = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, {k: "arc" for k, _ in sites})
+        best.max_deviation_mm = arc.max_deviation_mm
+    best.mode = CornerMode.OPTIMAL
+    return best
+
+
+def _local_time(q: CornerGeometry, built: tuple[Arc, float, float], feed: float, a_lat: float) -> float:
+    """Estimated time of the quintic minus that of the circular blend over the same stretch
+    (from the farther start to the farther end of the two), s: each curve at
+    ``min(feed, sqrt(a_lat/|κ|))``, the uncovered line pieces at the feed."""
+    arc, ta, tb = built
+    C = np.array([q.p0, q.d0, q.a0, q.a1, q.d1, q.p1])
+    H0, H1, H2 = quintic_basis(np.linspace(0.0, 1.0, 129))
+    d1, d2 = H1 @ C, H2 @ C
+    sp = np.hypot(d1[:, 0], d1[:, 1])
+    kappa = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(sp, 1e-300) ** 3
+    inv_v = 1.0 / np.minimum(feed, np.sqrt(a_lat / np.maximum(kappa, 1e-300)))
+    f = sp * inv_v
+    t_q = float(np.sum(0.5 * (f[1:] + f[:-1])) / 128.0)
+    t_a = arc.plane_length / min(feed, math.sqrt(a_lat * arc.radius))
+    sa, sb = max(q.sa, ta), max(q.sb, tb)
+    t_q += (sa - q.sa + sb - q.sb) / feed
+    t_a += (sa - ta + sb - tb) / feed
+    return t_q - t_a
 
 
 def _solve_one(job: tuple[int, CornerSite, float]) -> tuple[tuple[int, float], CornerSolution]:
@@ -383,6 +460,7 @@ def _assemble(
     eps_of: dict[int, float],
     mode: CornerMode,
     solved: dict[tuple[int, float], CornerSolution],
+    choice: dict[int, str] | None = None,
 ) -> CornerResult:
     lam0 = [0.0] * len(segs)
     lam1 = [1.0] * len(segs)
@@ -392,24 +470,13 @@ def _assemble(
         eps = eps_of[k]
         turn = math.degrees(site.turn)
         a, b = segs[k].geometry, segs[k + 1].geometry
-        if mode is CornerMode.ARC:
-            built = _arc_blend(site, eps)
-            if built is None:
-                records.append(
-                    CornerRecord(k, turn, site.inside, False, eps, reason="no circular blend (arc neighbours)")
-                )
-                continue
-            geom, sa, sb = built
-            kmax = 1.0 / geom.radius
-            sol = None
-        else:
-            sol = solved[(k, eps)]
-            if not sol.ok:
-                records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=sol.message))
-                continue
+        sol = solved.get((k, eps)) if mode is CornerMode.OPTIMAL else None
+        use_quintic = sol is not None and sol.ok and (choice is None or choice.get(k, "quintic") == "quintic")
+        if use_quintic:
+            assert sol is not None
             gm = sol.geometry
             sa, sb, w = gm.sa, gm.sb, site.w
-            geom = hermite_curve(
+            geom: Line | Arc | Poly = hermite_curve(
                 (gm.p0[0], gm.p0[1], w),
                 (gm.d0[0], gm.d0[1], 0.0),
                 (gm.p1[0], gm.p1[1], w),
@@ -418,11 +485,26 @@ def _assemble(
                 (gm.a1[0], gm.a1[1], 0.0),
                 label="corner-quintic",
             )
-            kmax = gm.max_curvature
+            kmax, kind, why = gm.max_curvature, "quintic", ""
+        else:
+            built = _arc_blend(site, eps)
+            if built is None:
+                why = "no circular blend (arc neighbours)"
+                if sol is not None and not sol.ok:
+                    why = f"G2 transition infeasible ({sol.message}); {why}"
+                records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=why))
+                continue
+            geom, sa, sb = built
+            kmax, kind = 1.0 / geom.radius, "arc"
+            why = ""
+            if sol is not None and not sol.ok:
+                why = f"G2 transition infeasible ({sol.message}): circular blend"
+            elif sol is not None:
+                why = "circular blend is faster here"
         lam1[k] = min(lam1[k], 1.0 - sa / a.plane_length)
         lam0[k + 1] = max(lam0[k + 1], sb / b.plane_length)
         inserts[k] = replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)
-        records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol))
+        records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol, why, kind))
     out: list[Segment] = []
     for i, s in enumerate(segs):
         if lam0[i] != 0.0 or lam1[i] != 1.0:
@@ -441,7 +523,7 @@ def optimize_corners(
     programmed: Sequence[Segment],
     *,
     tolerance_mm: float,
-    machine: object | None = None,
+    machine: Machine | None = None,
     mode: str | CornerMode = "optimal",
     workers: int = 1,
 ) -> list[Segment]:

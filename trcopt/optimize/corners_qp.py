@@ -303,9 +303,20 @@ class CornerBlendProblem:
         """(|κ| samples, g ≤ 0 rows) at ``x``: deviation − ε, R − clearance."""
         ev = self.evaluate(x)
         s = self.site
-        # the end samples lie on the neighbours by construction (clearance exactly R)
-        g = np.concatenate((ev["dev"] - (1.0 - 1e-3) * self.eps, s.radius - ev["clear"][1:-1] - CLEAR_TOL_MM))
-        return np.abs(ev["kappa"]), g
+        # the end samples lie on the neighbours by construction (clearance exactly R). At an outside
+        # corner the programmed vertex lies on the concave side and the clearance has its minimum
+        # inside the transition: between two samples the curve can come closer by its sag,
+        # |κ|·h²/8 at most (h: sample spacing). At an inside corner the transition turns away from
+        # the contour and the clearance grows monotonically from the ends.
+        kappa = np.abs(ev["kappa"])
+        if s.inside:
+            margin = 0.0
+        else:
+            h = np.hypot(*np.diff(ev["points"], axis=0).T)
+            sag = np.maximum(kappa[1:], kappa[:-1]) * h * h / 8.0
+            margin = np.maximum(sag[1:], sag[:-1])
+        g = np.concatenate((ev["dev"] - (1.0 - 1e-3) * self.eps, s.radius + margin - ev["clear"][1:-1] - CLEAR_TOL_MM))
+        return kappa, g
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         s = self.site
@@ -360,7 +371,7 @@ class CornerBlendProblem:
         )
         upper = np.concatenate((-k0 / kref, -g0 / self.eps, np.minimum(hi_b - x, trust) / L))
         lower = np.minimum(lower, upper)
-        rho = 1e-1
+        rho = 3e-2
         P = sp.diags(np.append(np.full(n, rho), 0.0)).tocsc()
         q = np.append(np.zeros(n), 1.0)
         return P, q, sp.csc_matrix(A), lower, upper
@@ -386,7 +397,7 @@ class CornerBlendProblem:
         if v > 0.0:
             x = self._restore(x)
             f, v = self._merit(x)
-        best = (f, x.copy()) if self._feasible(x) else (math.inf, x.copy())
+        best = (f, x.copy()) if self._feasible(x, dense=True) else (math.inf, x.copy())
         L = max(float(x[0] + x[3]), 1e-6)
         trust = 0.25 * L
         status_msg = "max iterations"
@@ -409,7 +420,7 @@ class CornerBlendProblem:
             mu = 10.0 * max(f, 1e-6) / max(self.eps, 1e-9)
             if fn + mu * vn < f + mu * v - 1e-12 * max(f, 1.0):
                 x, f, v = xn, fn, vn
-                if f < best[0] and self._feasible(x):
+                if f < best[0] and self._feasible(x) and self._feasible(x, dense=True):
                     best = (f, x.copy())
                 trust = min(trust * 1.5, 0.5 * L)
                 history.append(f)
@@ -448,9 +459,15 @@ class CornerBlendProblem:
             "osqp-sqp",
         )
 
-    def _feasible(self, x: np.ndarray) -> bool:
-        """Exact sampled constraints with the true tolerance (the SQP aims 0.1 % inside it)."""
-        ev = self.evaluate(x)
+    def _feasible(self, x: np.ndarray, dense: bool = False) -> bool:
+        """Exact constraints with the true tolerance (the SQP aims 0.1 % inside it) on the SQP's
+        samples, or on the dense samples of the final acceptance (``dense``), which also catch a
+        transition dipping below the clearance between two SQP samples."""
+        ev = self.evaluate(x, dense=dense)
+        if dense:
+            return float(ev["dev"].max()) <= self.eps and float(ev["clear"].min()) >= (
+                self.site.radius - 2 * CLEAR_TOL_MM
+            )
         return float(ev["dev"].max()) <= self.eps and float(ev["clear"][1:-1].min(initial=math.inf)) >= (
             self.site.radius - CLEAR_TOL_MM
         )

@@ -41,7 +41,7 @@ from ..geometry import Arc, Line
 from ..path import Role, Segment
 from .model import bbox, carrier_residual, element_distance, reversal_residual, tangency_residual
 
-__all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "FAMILIES"]
+__all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "part_contour", "FAMILIES"]
 
 FAMILIES = ("radius", "tangency", "continuity", "no_reversal", "clearance", "lead_clearance")
 INFORMATIONAL = ("lead_clearance",)
@@ -177,6 +177,23 @@ def _signed_offset(tool: Segment, prog: Line | Arc) -> float:
     return prog.sense * (prog.radius - math.hypot(p[0] - prog.center[0], p[1] - prog.center[1]))
 
 
+def part_contour(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> list[Segment]:
+    """The part contour: programmed elements of the blocks whose tool-centre path is a
+    compensated contour (whatever their motion type), plus blocks in between without any
+    tool-centre segment (omitted by collision detection). Approach and retraction blocks are not
+    part of it: their tool-centre moves are checked by ``lead_clearance``."""
+    comp = [k for k, s in enumerate(toolpath) if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)]
+    on_lines = {toolpath[k].span.line for k in comp}
+    lo, hi = (min(on_lines), max(on_lines)) if on_lines else (1, 0)
+    tool_lines = {s.span.line for s in toolpath}
+    part_lines = on_lines | {ln for ln in range(lo, hi + 1) if ln not in tool_lines}
+    return [
+        p
+        for p in programmed
+        if p.span.line in part_lines and p.role in (Role.CONTOUR, Role.RAPID) and p.geometry.plane_length > 0.0
+    ]
+
+
 def _programmed_tangent_at(prog: Line | Arc, p: tuple[float, float]) -> tuple[float, float]:
     if isinstance(prog, Line):
         return prog.direction2()
@@ -214,19 +231,7 @@ def verify_plan(
     notes: list[str] = []
     specs = _sar_specs(moves)
 
-    # the part contour: programmed elements of the blocks whose tool-centre path is a compensated
-    # contour (whatever their motion type), plus blocks in between without any tool-centre
-    # segment (omitted by collision detection)
-    comp = [k for k, s in enumerate(toolpath) if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)]
-    on_lines = {toolpath[k].span.line for k in comp}
-    lo, hi = (min(on_lines), max(on_lines)) if on_lines else (1, 0)
-    tool_lines = {s.span.line for s in toolpath}
-    part_lines = on_lines | {ln for ln in range(lo, hi + 1) if ln not in tool_lines}
-    part = [
-        p
-        for p in programmed
-        if p.span.line in part_lines and p.role in (Role.CONTOUR, Role.RAPID) and p.geometry.plane_length > 0.0
-    ]
+    part = part_contour(programmed, toolpath)
     prog_by_line: dict[int, list[Segment]] = {}
     for p in part:
         prog_by_line.setdefault(p.span.line, []).append(p)
