@@ -20,8 +20,8 @@ from pathlib import Path
 from trcopt.config import DEFAULT_MACHINE
 from trcopt.errors import TrcoptError
 from trcopt.optimize.cli import lead_inputs_from_plan
-from trcopt.optimize.leadin import optimal_lead
 from trcopt.optimize.lead_io import compare_with_sar
+from trcopt.optimize.leadin import optimal_lead
 from trcopt.pipeline import PlanOptions, plan_file
 
 ROOT = Path(__file__).resolve().parents[1] / "problems"

@@ -46,7 +46,9 @@ def lp_reference(path, machine):
             L = arrays.length[k]
             n = 1 if arrays.kind[k] == 0 else max(8, math.ceil(abs(arrays.arc[k, 4]) * L / DTHETA_LP))
             g = np.linspace(0.0, L, n + 1)
-            lo.append(g[:-1]); hi.append(g[1:]); segs.append(np.full(n, k))
+            lo.append(g[:-1])
+            hi.append(g[1:])
+            segs.append(np.full(n, k))
         lo, hi, iseg = np.concatenate(lo), np.concatenate(hi), np.concatenate(segs)
         m = lo.shape[0]
         d1l, d2l = arrays.eval(iseg, lo + 1e-9 * (hi - lo), 1), arrays.eval(iseg, lo + 1e-9 * (hi - lo), 2)
@@ -62,7 +64,9 @@ def lp_reference(path, machine):
                 coef_n = ax + (d2 if at_right else 0)
                 for sign in (1.0, -1.0):
                     rr = r + np.arange(m)
-                    rows += [rr, rr]; cols += [ci, ci + 1]; vals += [sign * coef_i, sign * coef_n]
+                    rows += [rr, rr]
+                    cols += [ci, ci + 1]
+                    vals += [sign * coef_i, sign * coef_n]
                     rhs.append(np.full(m, amax[j]))
                     r += m
         A = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(r, m + 1)).tocsr()
@@ -71,7 +75,9 @@ def lp_reference(path, machine):
             capr = np.minimum(((vmax / np.abs(d1r)) ** 2).min(axis=1), feeds[iseg] ** 2)
         ub = np.minimum(np.append(capl, np.inf), np.insert(capr, 0, np.inf))
         ub[0] = ub[-1] = 0.0
-        res = linprog(-np.ones(m + 1), A_ub=A, b_ub=np.concatenate(rhs), bounds=np.c_[np.zeros(m + 1), ub], method="highs")
+        res = linprog(
+            -np.ones(m + 1), A_ub=A, b_ub=np.concatenate(rhs), bounds=np.c_[np.zeros(m + 1), ub], method="highs"
+        )
         x = np.maximum(res.x, 0.0)
         sd = np.sqrt(x)
         for i in range(m):
@@ -120,9 +126,11 @@ def grbl_jd(path, machine, delta=0.01, eps=0.002):
         if hasattr(g, "radius"):
             n = max(1, int(0.5 * abs(g.sweep) * g.radius / math.sqrt(eps * (2 * g.radius - eps))))
             for i in range(1, n + 1):
-                pts.append(np.array(sg.plane.to_xyz(g.point(g.length * i / n)))); fs.append(feeds[k])
+                pts.append(np.array(sg.plane.to_xyz(g.point(g.length * i / n))))
+                fs.append(feeds[k])
         else:
-            pts.append(np.array(sg.end_xyz)); fs.append(feeds[k])
+            pts.append(np.array(sg.end_xyz))
+            fs.append(feeds[k])
     P = np.array(pts)
     d = np.diff(P, axis=0)
     L = np.linalg.norm(d, axis=1)
@@ -156,7 +164,12 @@ def grbl_jd(path, machine, delta=0.01, eps=0.002):
         vp = math.sqrt(min(v * v, (2 * a * L[k] + e[k] + e[k + 1]) / 2))
         T += (vp - v0) / a + (vp - v1) / a + (L[k] - (2 * vp * vp - e[k] - e[k + 1]) / (2 * a)) / vp
     jump = np.sqrt(e[1:-1]) * np.linalg.norm(u[1:] - u[:-1], axis=1)  # velocity jump per servo period
-    ratio = float((np.abs(jump[:, None] * np.abs(u[1:] - u[:-1]) / np.maximum(np.linalg.norm(u[1:] - u[:-1], axis=1)[:, None], 1e-300)) / 1e-3 / amax).max()) if n > 1 else 0.0
+    if n > 1:
+        du = u[1:] - u[:-1]
+        axis_jump = np.abs(jump[:, None] * np.abs(du) / np.maximum(np.linalg.norm(du, axis=1)[:, None], 1e-300))
+        ratio = float((axis_jump / 1e-3 / amax).max())
+    else:
+        ratio = 0.0
     return T, ratio
 
 
@@ -169,7 +182,7 @@ def toppra_naive(path, machine):
     vmax, amax = axis_limits(machine)
     arrays = PathArrays(path)
     pts = [np.array(path[0].start_xyz)]
-    for k, sg in enumerate(path):
+    for k, _sg in enumerate(path):
         n = 1 if arrays.kind[k] == 0 else max(2, int(abs(arrays.arc[k, 4]) * arrays.length[k] / 0.2))
         for i in range(1, n + 1):
             pts.append(arrays.eval(np.array([k]), np.array([arrays.length[k] * i / n]), 0)[0])
@@ -211,23 +224,36 @@ def main(big: bool = False, use_cache: bool = True) -> None:
             rep = traj.check_limits(1e-4)
             from trcopt.timing.report import max_jerk
             jerk = float(max_jerk(traj, 1e-3).max())
-            rows.append((fam, name, machine.name[:5], "trcopt", traj.duration, t_ref, ref_kind, rep.ok, jerk, wall, len(path) / wall))
+            limits = machine.name[:5]
+            rows.append(
+                (fam, name, limits, "trcopt", traj.duration, t_ref, ref_kind, rep.ok, jerk, wall, len(path) / wall)
+            )
             if throughput:
                 continue
-            t0 = time.perf_counter(); tn = naive_exact_stop(path, machine); w = time.perf_counter() - t0
-            rows.append((fam, name, machine.name[:5], "naive stop", tn, t_ref, ref_kind, True, float("nan"), w, len(path) / w))
-            t0 = time.perf_counter(); tg, ratio = grbl_jd(path, machine); w = time.perf_counter() - t0
-            rows.append((fam, name, machine.name[:5], f"grbl JD (a x{ratio:.0f})", tg, t_ref, ref_kind, False, float("nan"), w, len(path) / w))
-            t0 = time.perf_counter(); tt, ok = toppra_naive(path, machine); w = time.perf_counter() - t0
-            rows.append((fam, name, machine.name[:5], "toppra naive", tt, t_ref, ref_kind, ok, float("nan"), w, len(path) / w))
+            t0 = time.perf_counter()
+            tn = naive_exact_stop(path, machine)
+            w = time.perf_counter() - t0
+            rows.append((fam, name, limits, "naive stop", tn, t_ref, ref_kind, True, float("nan"), w, len(path) / w))
+            t0 = time.perf_counter()
+            tg, ratio = grbl_jd(path, machine)
+            w = time.perf_counter() - t0
+            grbl = f"grbl JD (a x{ratio:.0f})"
+            rows.append((fam, name, limits, grbl, tg, t_ref, ref_kind, False, float("nan"), w, len(path) / w))
+            t0 = time.perf_counter()
+            tt, ok = toppra_naive(path, machine)
+            w = time.perf_counter() - t0
+            rows.append((fam, name, limits, "toppra naive", tt, t_ref, ref_kind, ok, float("nan"), w, len(path) / w))
     CACHE.parent.mkdir(exist_ok=True)
     CACHE.write_text(json.dumps(cache, indent=1, sort_keys=True))
-    print("| family | case | limits | planner | T_plan s | T_ref s | ref | CTR | valid | max jerk mm/s³ (1 kHz) | wall s | seg/s |")
+    print(
+        "| family | case | limits | planner | T_plan s | T_ref s | ref | CTR | valid | max jerk mm/s³ (1 kHz) "
+        "| wall s | seg/s |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for fam, name, lim, planner, tp, tr, rk, ok, jerk, wall, sps in rows:
         ctr = tp / tr if tr == tr else float("nan")
-        print(f"| {fam} | {name} | {lim} | {planner} | {tp:.6f} | {tr:.6f} | {rk} | {ctr:.5f} | {'yes' if ok else 'NO'} | "
-              f"{jerk:.3g} | {wall:.4f} | {sps:.0f} |")
+        print(f"| {fam} | {name} | {lim} | {planner} | {tp:.6f} | {tr:.6f} | {rk} | {ctr:.5f} | "
+              f"{'yes' if ok else 'NO'} | {jerk:.3g} | {wall:.4f} | {sps:.0f} |")
     tr_rows = [r for r in rows if r[3] == "trcopt" and r[5] == r[5]]
     worst = max(r[4] / r[5] for r in tr_rows)
     print(f"\ntrcopt: worst CTR {worst:.5f}; all valid: {all(r[7] for r in rows if r[3] == 'trcopt')}")

@@ -4,11 +4,12 @@ Run: ``python benchmarks/bench_trc.py [--blocks 100000]``. Prints a table; not a
 Times are the process's CPU time (one core), so a busy machine disturbs them less than wall time.
 
 The throughput runs over moves built before the clock starts (as from a read program); the
-memory runs generate the moves lazily. The program is a long wavy contour compensated with G41 R=2: per 50 mm period one straight
-line, a 45° inside corner, a convex half circle (G2, offset radius 7), two more inside corners,
-a concave half circle (G3, offset radius 3) with outside corners and transition circles. The
-moves are generated lazily and the tool-centre segments are counted, not stored, so the peak
-memory measures the engine's own working set (bounded look-ahead window).
+memory runs generate the moves lazily. The program is a long wavy contour compensated with G41
+R=2: per 50 mm period one straight line, a 45° inside corner, a convex half circle (G2, offset
+radius 7), two more inside corners, a concave half circle (G3, offset radius 3) with outside
+corners and transition circles. The moves are generated lazily and the tool-centre segments are
+counted, not stored, so the peak memory measures the engine's own working set (bounded look-ahead
+window).
 
 Baseline in the same run: the offset-only pass (each programmed element built and offset by R in
 closed form, no junction logic, no output segments) over the same moves — the floor of any exact TRC implementation in
@@ -112,7 +113,10 @@ def main() -> None:
     print("| stage | blocks | segments | CPU time (s) | blocks/s | ratio to baseline |")
     print("|---|---|---|---|---|---|")
     print(f"| baseline: offset only, no junctions | {n:,} | {n:,} | {dt_base:.3f} | {n / dt_base:,.0f} | 1.00 |")
-    print(f"| TRC engine (corners, look-ahead, CDOF) | {n:,} | {segs:,} | {dt:.3f} | {n / dt:,.0f} | {dt / dt_base:.2f} |")
+    print(
+        f"| TRC engine (corners, look-ahead, CDOF) | {n:,} | {segs:,} | {dt:.3f} | {n / dt:,.0f} "
+        f"| {dt / dt_base:.2f} |"
+    )
     print()
     print(f"diagnostics: {ndiag}; target: >= 30,000 blocks/s, memory independent of program length")
 

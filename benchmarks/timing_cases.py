@@ -10,11 +10,19 @@ from trcopt import Arc, AxisLimits, Line, Machine, Plane, Role, Segment, SourceS
 
 ISO = Machine(
     name="isotropic", rapid_mm_min=12000.0,
-    axes=(("X", AxisLimits(200.0, 2000.0, 5e4)), ("Y", AxisLimits(200.0, 2000.0, 5e4)), ("Z", AxisLimits(200.0, 2000.0, 5e4))),
+    axes=(
+        ("X", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Y", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Z", AxisLimits(200.0, 2000.0, 5e4)),
+    ),
 )
 ANISO = Machine(
     name="anisotropic", rapid_mm_min=15000.0,
-    axes=(("X", AxisLimits(250.0, 3000.0, 5e4)), ("Y", AxisLimits(200.0, 2000.0, 5e4)), ("Z", AxisLimits(100.0, 1000.0, 5e4))),
+    axes=(
+        ("X", AxisLimits(250.0, 3000.0, 5e4)),
+        ("Y", AxisLimits(200.0, 2000.0, 5e4)),
+        ("Z", AxisLimits(100.0, 1000.0, 5e4)),
+    ),
 )
 
 
@@ -23,7 +31,10 @@ def seg(g, feed, n=0):
 
 
 def polyline(pts, feed):
-    return [seg(Line((a[0], a[1], 0.0), (b[0], b[1], 0.0)), feed, i) for i, (a, b) in enumerate(zip(pts, pts[1:]))]
+    return [
+        seg(Line((a[0], a[1], 0.0), (b[0], b[1], 0.0)), feed, i)
+        for i, (a, b) in enumerate(zip(pts, pts[1:], strict=False))
+    ]
 
 
 def line_arc_line(R, feed):
@@ -143,7 +154,7 @@ def families(big=False):
 
     def cf7(m):
         tot = 0.0
-        for a, b in zip(sq, sq[1:]):
+        for a, b in zip(sq, sq[1:], strict=False):
             d = np.array([b[0] - a[0], b[1] - a[1], 0.0]) / 40.0
             v, acc = _line_va(m, d, 200.0)
             tot += 40 / v + v / acc

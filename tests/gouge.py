@@ -56,7 +56,10 @@ def gouges(programmed: list[Segment], toolpath: list[Segment], tol: float = 1e-6
     """(segment index, block, worst distance, radius) for every tool-centre segment that comes
     closer than radius − tol to a programmed contour element of a compensated block."""
     blocks_on = {s.span.line for s in toolpath if s.radius > 0 and s.role in (Role.CONTOUR, Role.CORNER)}
-    contour = [p for p in programmed if p.span.line in blocks_on and p.role is Role.CONTOUR and p.geometry.plane_length > 0]
+    contour = [
+        p for p in programmed
+        if p.span.line in blocks_on and p.role is Role.CONTOUR and p.geometry.plane_length > 0
+    ]
     out = []
     for k, seg in enumerate(toolpath):
         if seg.radius <= 0 or seg.role not in (Role.CONTOUR, Role.CORNER) or seg.geometry.plane_length <= 0:

@@ -11,8 +11,8 @@ import json
 from pathlib import Path
 
 import pytest
-
 from gouge import gouges
+
 from trcopt.pipeline import PlanOptions, plan_file
 
 PROBLEMS = Path(__file__).resolve().parents[1] / "problems"
@@ -35,7 +35,7 @@ def _xy(v):
 
 
 def _close(actual, expected, tol):
-    return len(expected) <= len(actual) and all(abs(a - e) <= tol for a, e in zip(actual, expected))
+    return len(expected) <= len(actual) and all(abs(a - e) <= tol for a, e in zip(actual, expected, strict=False))
 
 
 @pytest.mark.parametrize("stem", CASES, ids=IDS)
@@ -45,7 +45,7 @@ def test_golden_problem(stem: Path) -> None:
     tol = expected["tolerance_mm"]
     got = [(s.kind, s.span.block, s.start_xyz, s.end_xyz, s.center_xyz) for s in result.toolpath]
     assert len(got) == len(expected["toolpath"]), "\n".join(map(str, got))
-    for k, (g, e) in enumerate(zip(got, expected["toolpath"])):
+    for k, (g, e) in enumerate(zip(got, expected["toolpath"], strict=True)):
         kind, block, start, end, center = e
         assert g[0] == kind and g[1] == block, (k, g, e)
         assert _close(g[2], _xy(start), tol), (k, g, e)

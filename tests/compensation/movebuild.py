@@ -21,7 +21,9 @@ def build(steps, start=(0.0, 0.0, 0.0), comp=None, feed=10.0):
         if changes:
             state = replace(state, **changes)
         end3 = tuple(float(c) for c in (end + (pos[2],) if len(end) == 2 else end))
-        mk = {"G0": MoveKind.RAPID, "G1": MoveKind.LINE, "G2": MoveKind.ARC, "G3": MoveKind.ARC, "NONE": MoveKind.NONE}[kind]
+        mk = {
+            "G0": MoveKind.RAPID, "G1": MoveKind.LINE, "G2": MoveKind.ARC, "G3": MoveKind.ARC, "NONE": MoveKind.NONE
+        }[kind]
         center = extra.get("center")
         if center is not None:
             center = (float(center[0]), float(center[1]), pos[2])

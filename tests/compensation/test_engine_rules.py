@@ -23,7 +23,7 @@ def path(result):
 
 
 def approx(p, q, tol=1e-6):
-    return all(abs(a - b) <= tol for a, b in zip(p, q))
+    return all(abs(a - b) <= tol for a, b in zip(p, q, strict=True))
 
 
 def codes(result):
@@ -49,7 +49,8 @@ def test_dummy_blocks_run_at_the_transition_circle_start_r12() -> None:
         "N90 X0\nN100 G40 X-10 Y-10\nM30\n"
     )
     p = path(r)
-    assert ("line", "N40", (-5.0, 20.0, 0.0), (-5.0, 20.0, -2.0)) in [(k, b, tuple(map(float, s)), tuple(map(float, e))) for k, b, s, e in p]
+    as_floats = [(k, b, tuple(map(float, s)), tuple(map(float, e))) for k, b, s, e in p]
+    assert ("line", "N40", (-5.0, 20.0, 0.0), (-5.0, 20.0, -2.0)) in as_floats
     corner_n60 = [s for s in r.toolpath if s.span.block == "N60" and s.role.value == "corner"][0]
     assert approx(corner_n60.start_xyz, (-5, 20, -2)) and approx(corner_n60.geometry.center, (0, 20))
     z_n70 = [s for s in r.toolpath if s.span.block == "N70"][0]
@@ -58,7 +59,10 @@ def test_dummy_blocks_run_at_the_transition_circle_start_r12() -> None:
 
 
 def test_too_many_dummy_blocks_10762_and_the_setting() -> None:
-    text = "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 M8\nN40 M9\nN50 M8\nN60 M9\nN70 X20\nN80 G40 X30 Y10\nM30\n"
+    text = (
+        "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 M8\nN40 M9\nN50 M8\nN60 M9\nN70 X20\n"
+        "N80 G40 X30 Y10\nM30\n"
+    )
     assert ("error", "10762", "N60") in codes(run(text))
     assert run(text, cutcom_maxnum_dummy_blocks=4).ok
 
@@ -82,7 +86,10 @@ def test_helix_is_offset_in_the_plane_only() -> None:
 
 
 def test_kontc_and_kontt_are_tangent_polynomials_r20() -> None:
-    r = run("N10 T1 D1 G0 X-20 Y-10\nN20 G1 G41 KONTC X0 Y0 F100\nN30 G3 X20 Y20 I0 J20\nN40 G1 X40\nN50 KONTT G40 X60 Y0\nM30\n")
+    r = run(
+        "N10 T1 D1 G0 X-20 Y-10\nN20 G1 G41 KONTC X0 Y0 F100\nN30 G3 X20 Y20 I0 J20\nN40 G1 X40\n"
+        "N50 KONTT G40 X60 Y0\nM30\n"
+    )
     approach, arc = r.toolpath[1], r.toolpath[2]
     assert isinstance(approach.geometry, Poly) and approach.role.value == "approach"
     assert approx(approach.end_xyz, (0, 5, 0))  # S = P1 + R·n1
@@ -127,7 +134,7 @@ def test_selection_without_plane_axes_is_deferred_r3_4() -> None:
 
 def test_g40_right_after_selection_means_no_selection_r3_5() -> None:
     r = run("N10 T1 D1 G0 X-10 Y-10\nN20 G1 G41 X0 Y0 F100\nN30 G40 X10 Y10\nM30\n")
-    assert [approx(s.end_xyz, e) for s, e in zip(r.toolpath[1:], [(0, 0, 0), (10, 10, 0)])] == [True, True]
+    assert [approx(s.end_xyz, e) for s, e in zip(r.toolpath[1:], [(0, 0, 0), (10, 10, 0)], strict=True)] == [True, True]
     assert all(s.radius == 0 for s in r.toolpath)
 
 
@@ -137,7 +144,10 @@ def test_kont_start_within_radius_10755() -> None:
 
 
 def test_g18_compensation_in_z_x() -> None:
-    r = run("N10 T1 D1 G18 G0 Z-10 X-10\nN20 G1 G41 Z0 X0 F100\nN30 Z20\nN40 G2 Z30 X10 K10 I0\nN50 G1 X20\nN60 G40 Z40 X30\nM30\n")
+    r = run(
+        "N10 T1 D1 G18 G0 Z-10 X-10\nN20 G1 G41 Z0 X0 F100\nN30 Z20\nN40 G2 Z30 X10 K10 I0\nN50 G1 X20\n"
+        "N60 G40 Z40 X30\nM30\n"
+    )
     n30 = [s for s in r.toolpath if s.span.block == "N30"][0]
     assert approx(n30.start_xyz, (5, 0, 0)) and approx(n30.end_xyz, (5, 0, 30 - math.sqrt(15**2 - 5**2)))
     arc = [s for s in r.toolpath if s.span.block == "N40"][0]
@@ -158,7 +168,10 @@ def test_reversal_is_an_outside_corner_with_a_half_circle() -> None:
 
 
 def test_degenerate_arc_omitted_with_cdon_alarm_with_cdof_r30() -> None:
-    text = "N10 T1 D1 G0 X-10 Y10 {mode}\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 G3 X26 Y0 I3 J0\nN50 G1 X40\nN60 G40 X50 Y10\nM30\n"
+    text = (
+        "N10 T1 D1 G0 X-10 Y10 {mode}\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 G3 X26 Y0 I3 J0\nN50 G1 X40\n"
+        "N60 G40 X50 Y10\nM30\n"
+    )
     on = run(text.format(mode="CDON"))
     assert codes(on) == [("warning", "10763", "N40")]
     assert approx(on.toolpath[2].end_xyz, (26, 5, 0))
@@ -168,25 +181,33 @@ def test_degenerate_arc_omitted_with_cdon_alarm_with_cdof_r30() -> None:
 
 def test_predictive_search_omits_blocks_r25_3_and_check_blocks_setting() -> None:
     # a 2 mm step down and back up: with R = 5 the inside corners have no adjacent intersection
-    text = "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 Y-2\nN50 X22\nN60 Y0\nN70 X40\nN80 G40 X50 Y10\nM30\n"
+    text = (
+        "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 Y-2\nN50 X22\nN60 Y0\nN70 X40\n"
+        "N80 G40 X50 Y10\nM30\n"
+    )
     r = run(text)
     assert r.ok, codes(r)
     # N40's transition circle around (20, 0) meets N70's around (22, 0) at (21, √24): N50, N60 omitted
     arcs = [s for s in r.toolpath if s.kind == "arc"]
     assert [s.span.block for s in arcs] == ["N40", "N70"]
-    assert approx(arcs[0].end_xyz, (21, math.sqrt(24), 0), 1e-9) and approx(arcs[1].start_xyz, (21, math.sqrt(24), 0), 1e-9)
+    meet = (21, math.sqrt(24), 0)
+    assert approx(arcs[0].end_xyz, meet, 1e-9) and approx(arcs[1].start_xyz, meet, 1e-9)
     assert codes(r) == [("warning", "10763", "N50"), ("warning", "10763", "N60")]
     # with a look-ahead of 2 blocks (MD20240) N70 is out of reach: alarm 10751
     assert ("error", "10751", "N40") in codes(run(text, cutcom_maxnum_check_blocks=2))
 
 
 def test_suppress_10763_setting() -> None:
-    text = "N10 T1 D1 G0 X-10 Y10 CDON\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 G3 X26 Y0 I3 J0\nN50 G1 X40\nN60 G40 X50 Y10\nM30\n"
+    text = (
+        "N10 T1 D1 G0 X-10 Y10 CDON\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 G3 X26 Y0 I3 J0\nN50 G1 X40\n"
+        "N60 G40 X50 Y10\nM30\n"
+    )
     assert run(text, suppress_10763=True).diagnostics == []
 
 
 def test_strict_mode_turns_cdof_reversal_into_10751() -> None:
     text = (
-        "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 Y-20\nN50 X26\nN60 Y0\nN70 X50\nN80 G40 X60 Y10\nM30\n"
+        "N10 T1 D1 G0 X-10 Y10\nN20 G1 G41 X0 Y0 F100\nN30 X20\nN40 Y-20\nN50 X26\nN60 Y0\nN70 X50\n"
+        "N80 G40 X60 Y10\nM30\n"
     )
     assert ("error", "10751", "N50") in codes(run(text, strict=True))

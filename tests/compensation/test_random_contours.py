@@ -29,7 +29,7 @@ def contours(draw):
         angles.append(acc)
         acc += 2 * math.pi * g / total
     radii = draw(st.lists(st.floats(25.0, 60.0), min_size=n, max_size=n))
-    pts = [(r * math.cos(a), r * math.sin(a)) for r, a in zip(radii, angles)]
+    pts = [(r * math.cos(a), r * math.sin(a)) for r, a in zip(radii, angles, strict=True)]
     bulges = draw(st.lists(st.sampled_from([0.0, 0.0, 0.15, -0.15, 0.3, -0.3]), min_size=n, max_size=n))
     side = draw(st.sampled_from([LEFT, RIGHT]))
     corner = draw(st.sampled_from([CornerMode.TRANSITION_CIRCLE, CornerMode.INTERSECTION]))

@@ -14,7 +14,7 @@ X461 = (50 - 10 * math.cos(math.radians(30)), 10.0)  # 30° up the auxiliary cir
 
 
 def approx(p, q, tol=1e-9):
-    return all(abs(a - b) <= tol for a, b in zip(p, q))
+    return all(abs(a - b) <= tol for a, b in zip(p, q, strict=True))
 
 
 def test_seed_g461_feeds_and_path() -> None:
@@ -39,7 +39,8 @@ N70 M30
 
 @pytest.mark.parametrize("strategy, end", [("G461", X461), ("G462", (40.0, 10.0))])
 def test_retraction_is_the_mirror_of_the_approach(strategy, end) -> None:
-    r = plan(MIRROR.format(approach="NORM", strategy=strategy, tx=0, ty=20), file="m.mpf", options=PlanOptions(timing=False))
+    text = MIRROR.format(approach="NORM", strategy=strategy, tx=0, ty=20)
+    r = plan(text, file="m.mpf", options=PlanOptions(timing=False))
     blocks = [(s.span.block, s.kind) for s in r.toolpath]
     assert blocks == [("N20", "line"), ("N30", "line"), ("N40", "arc"), ("N40", "line"), ("N60", "line")]
     assert approx(r.toolpath[1].start_xyz, (20 - 10 / math.sqrt(5), -5 + 20 / math.sqrt(5), 0), 1e-9)
@@ -51,7 +52,8 @@ def test_retraction_is_the_mirror_of_the_approach(strategy, end) -> None:
 def test_retraction_g460_includes_the_retraction_line_in_the_search_r31() -> None:
     # G460: the NORM retraction line (40, 5) → (0, 20) meets N40's transition circle around (30, 0):
     # 1825 t² − 650 t + 25 = 0, t = (650 + √240000) / 3650 — N50 and the rest of N40 stay unmachined
-    r = plan(MIRROR.format(approach="NORM", strategy="G460", tx=0, ty=20), file="m.mpf", options=PlanOptions(timing=False))
+    text = MIRROR.format(approach="NORM", strategy="G460", tx=0, ty=20)
+    r = plan(text, file="m.mpf", options=PlanOptions(timing=False))
     t = (650 + math.sqrt(240000)) / 3650
     x = (40 - 40 * t, 5 + 15 * t, 0.0)
     blocks = [(s.span.block, s.kind) for s in r.toolpath]
@@ -65,7 +67,8 @@ def test_end_point_behind_the_contour_intersects_the_bypass_circle_r35(strategy)
     # KONT, end point (70, 20) behind the contour: the G450 bypass circle around E = (50, 5) from
     # (40, 5) to F = (44, 13) meets N40's offset y = 10 where G461 would; the rest of the circle is
     # still traversed, then the straight line to T. G460–G462 make no difference here.
-    r = plan(MIRROR.format(approach="KONT", strategy=strategy, tx=70, ty=20), file="m.mpf", options=PlanOptions(timing=False))
+    text = MIRROR.format(approach="KONT", strategy=strategy, tx=70, ty=20)
+    r = plan(text, file="m.mpf", options=PlanOptions(timing=False))
     tail = r.toolpath[-3:]
     assert [(s.span.block, s.kind, s.role.value) for s in tail] == [
         ("N40", "line", "contour"), ("N60", "arc", "retract"), ("N60", "line", "retract")

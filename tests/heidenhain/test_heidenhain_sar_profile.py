@@ -142,7 +142,8 @@ def test_compensate_with_profile_maps_a_bottleneck_to_an_error():
     # pocket 40 x 30 with r = 16: offsets reverse; the engine alone only warns under CDOF
     text = (
         "0 BEGIN PGM T MM\n1 TOOL DEF 1 R+16\n2 TOOL CALL 1 Z\n3 L X+30 Y+25 R0 FMAX\n4 L X+30 Y+10 RL F200\n"
-        "5 L X+50 Y+10\n6 L X+50 Y+40\n7 L X+10 Y+40\n8 L X+10 Y+10\n9 L X+30 Y+10\n10 L X+30 Y+25 R0\n11 END PGM T MM\n"
+        "5 L X+50 Y+10\n6 L X+50 Y+40\n7 L X+10 Y+40\n8 L X+10 Y+10\n9 L X+30 Y+10\n10 L X+30 Y+25 R0\n"
+        "11 END PGM T MM\n"
     )
     from trcopt.nc.dialects import heidenhain as hh
 

@@ -63,7 +63,7 @@ def pair_moves(pair: dict, collision: CollisionMode = CollisionMode.CDOF) -> lis
     prog = pair["programmed"]
     moves = []
     for part in ("pre", "entry", "contour", "exit", "post"):
-        for n, s in enumerate(prog[part]):
+        for _n, s in enumerate(prog[part]):
             if part in ("entry", "contour"):
                 comp = CompState(
                     side, radius, True, collision=collision, side_programmed=(part == "entry")

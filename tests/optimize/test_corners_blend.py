@@ -58,7 +58,8 @@ def test_optimal_solution_status_and_g2_joints(corner):
     assert isinstance(g, Poly)
     # positions and tangents continuous
     assert math.dist(before.geometry.end, g.start) < 1e-9 and math.dist(g.end, after.geometry.start) < 1e-9
-    for t1, t2 in ((before.geometry.end_tangent(), g.start_tangent()), (g.end_tangent(), after.geometry.start_tangent())):
+    joints = ((before.geometry.end_tangent(), g.start_tangent()), (g.end_tangent(), after.geometry.start_tangent()))
+    for t1, t2 in joints:
         assert abs(t1[0] * t2[1] - t1[1] * t2[0]) < 1e-9 and t1[0] * t2[0] + t1[1] * t2[1] > 0
     # curvature continuity: the neighbours are lines, the quintic starts and ends with κ = 0
     C = np.array([rec.solution.geometry.p0, rec.solution.geometry.d0, rec.solution.geometry.a0,

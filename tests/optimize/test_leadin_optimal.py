@@ -14,8 +14,8 @@ import pytest
 from trcopt.errors import SolverError
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.optimize.cli import register
-from trcopt.optimize.leadin import optimal_lead
 from trcopt.optimize.lead_io import compare_with_sar, leadin_gcode, leadin_svg
+from trcopt.optimize.leadin import optimal_lead
 from trcopt.pipeline import PlanOptions, plan
 
 PROBLEMS = Path(__file__).resolve().parents[2] / "problems" / "siemens"

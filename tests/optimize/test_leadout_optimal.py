@@ -30,7 +30,7 @@ def test_lead_out_leaves_tangentially_and_reaches_the_end_point() -> None:
     assert first.start[:2] == pytest.approx((45.0, 30.0), abs=1e-9)
     assert first.start_tangent() == pytest.approx((0.0, 1.0), abs=1e-7)
     assert last.end[:2] == pytest.approx((60.0, 40.0), abs=1e-9)
-    for a, b in zip(lead.elements, lead.elements[1:]):
+    for a, b in zip(lead.elements, lead.elements[1:], strict=False):
         assert math.dist(a.end, b.start) < 1e-9
         assert a.end_tangent() == pytest.approx(b.start_tangent(), abs=1e-6)
     assert {s.role for s in lead.segments} == {Role.RETRACT}

@@ -129,7 +129,10 @@ def test_contour_feed_reference_scales_arcs():
 
 
 def test_exports(tmp_path):
-    path = [seg(Line((0, 0, 0), (20, 0, 0)), block="N10"), seg(Arc((20.0, 5.0), 5.0, -math.pi / 2, math.pi), block="N20")]
+    path = [
+        seg(Line((0, 0, 0), (20, 0, 0)), block="N10"),
+        seg(Arc((20.0, 5.0), 5.0, -math.pi / 2, math.pi), block="N20"),
+    ]
     traj = time_parameterize(path, ISO)
     out = traj.write_csv(tmp_path / "profile.csv")
     with out.open() as fh:

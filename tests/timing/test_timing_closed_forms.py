@@ -84,10 +84,13 @@ def test_b4_acceleration_limited_circle_lp_value():
 @pytest.mark.parametrize("machine", [ISO, ANISO], ids=["iso", "aniso"])
 def test_b7_square_exact_stop(machine):
     pts = [(0, 0), (40, 0), (40, 40), (0, 40), (0, 0)]
-    path = [seg(Line((a[0], a[1], 0.0), (b[0], b[1], 0.0)), 200.0, f"N{10 * i}") for i, (a, b) in enumerate(zip(pts, pts[1:]))]
+    path = [
+        seg(Line((a[0], a[1], 0.0), (b[0], b[1], 0.0)), 200.0, f"N{10 * i}")
+        for i, (a, b) in enumerate(zip(pts, pts[1:], strict=False))
+    ]
     traj = time_parameterize(path, machine)
     expected = 0.0
-    for a, b in zip(pts, pts[1:]):
+    for a, b in zip(pts, pts[1:], strict=False):
         d = np.array([b[0] - a[0], b[1] - a[1], 0.0]) / 40.0
         expected += rest_to_rest(40.0, *line_limits(machine, d, 200.0))
     assert traj.duration == pytest.approx(expected, rel=1e-3)

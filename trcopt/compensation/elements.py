@@ -187,7 +187,8 @@ class Piece:
                     sub = c
                 else:
                     sub = c.sub_s(self.lam0 * total, self.lam1 * total)
-                pts = tuple((p[0], p[1], w0 + (w1 - w0) * (k / max(1, len(sub.points) - 1))) for k, p in enumerate(sub.points))
+                last = max(1, len(sub.points) - 1)
+                pts = tuple((p[0], p[1], w0 + (w1 - w0) * (k / last)) for k, p in enumerate(sub.points))
                 return Poly(pts, sub.tangents, sub.cum, sub.label)
             return c.sub(self.lam0, self.lam1, w0, w1)  # type: ignore[union-attr]
         prog = self.elem.prog

@@ -401,7 +401,9 @@ class Compensator:
                 raise self._alarm(10755, "KONT approach not possible: start point within the tool radius", a.span)
             delta = vec.deflection(vec.unit(vec.sub(p1, p0)), t1)
             corner, disc = cn.corner_mode_for(a, b)
-            out = cn.outside_corner(a, b, delta, self.settings, corner, disc, arc_owner_is_a=True, arc_role=Role.APPROACH)
+            out = cn.outside_corner(
+                a, b, delta, self.settings, corner, disc, arc_owner_is_a=True, arc_role=Role.APPROACH
+            )
             end = None if out.lam_a is None else (0, out.lam_a)
             return _Join(b.index, [Piece(b, b.role, out.lam_b, 1.0)], end=end, trailing=out.trailing)
         # NORM (and KONT in front): straight to S = P1 + R·n1

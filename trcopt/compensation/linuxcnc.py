@@ -421,13 +421,13 @@ class _LinuxCncCompensator:
         inside = _tool_inside_arc(side, prev.turn)
         oldrad_prog = oldrad + r if inside else oldrad - r
         d = oldrad_prog * math.cos(th - phi)
-        l = (d - r) / oldrad if inside else (d + r) / oldrad
-        if l > 1.0 or l < -1.0 or oldrad == 0.0:
+        cos_ang = (d - r) / oldrad if inside else (d + r) / oldrad
+        if cos_ang > 1.0 or cos_ang < -1.0 or oldrad == 0.0:
             raise _Stop("LCNC-ARC-LINE-GOUGE", span)
         if inside:
-            ang = (-math.acos(l) if prev.turn > 0 else math.acos(l)) + th + math.pi
+            ang = (-math.acos(cos_ang) if prev.turn > 0 else math.acos(cos_ang)) + th + math.pi
         else:
-            ang = (math.acos(l) if prev.turn > 0 else -math.acos(l)) + th + math.pi
+            ang = (math.acos(cos_ang) if prev.turn > 0 else -math.acos(cos_ang)) + th + math.pi
         return _at(pc, oldrad, ang)
 
     # -- contour: arc -----------------------------------------------------------------------
@@ -464,19 +464,19 @@ class _LinuxCncCompensator:
                 cyv = arc_radius * math.sin(beta - HALF_PI)
                 if inside:
                     dist = arc_radius - r
-                    l = (cyv + r) / dist
-                    if l > 1.0 or l < -1.0:
+                    sin_ang = (cyv + r) / dist
+                    if sin_ang > 1.0 or sin_ang < -1.0:
                         raise _Stop("LCNC-CONCAVE-GOUGE-ARC", m.span)
-                    ang = theta + math.asin(l) if turn > 0 else theta - math.asin(l)
+                    ang = theta + math.asin(sin_ang) if turn > 0 else theta - math.asin(sin_ang)
                 else:
                     dist = arc_radius + r
-                    l = (cyv - r) / dist
-                    if l > 1.0 or l < -1.0:
+                    sin_ang = (cyv - r) / dist
+                    if sin_ang > 1.0 or sin_ang < -1.0:
                         raise _Stop("LCNC-CONCAVE-GOUGE-ARC", m.span)
                     ang = (
-                        theta + math.pi - math.asin(l)
+                        theta + math.pi - math.asin(sin_ang)
                         if turn > 0
-                        else theta + math.pi + math.asin(l)
+                        else theta + math.pi + math.asin(sin_ang)
                     )
                 mid = _at(center, dist, ang)
             else:  # arc -> arc

@@ -118,7 +118,11 @@ def _with_poly(a: object, b: object, tol: float) -> list[Hit]:
         sa = Line(p, q)
         others: list[tuple[object, int | None]]
         if isinstance(b, Poly):
-            others = [(Line(u, v), j) for j, (u, v) in enumerate(zip(b.points, b.points[1:], strict=False)) if u[:2] != v[:2]]
+            others = [
+                (Line(u, v), j)
+                for j, (u, v) in enumerate(zip(b.points, b.points[1:], strict=False))
+                if u[:2] != v[:2]
+            ]
         else:
             others = [(b, None)]
         for other, j in others:

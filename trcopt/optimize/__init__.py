@@ -13,9 +13,9 @@ CasADi is imported inside the functions that build problems, so importing this p
 from __future__ import annotations
 
 from .cli import register, run_leadin
+from .lead_io import Baseline, compare_with_sar, leadin_gcode, leadin_svg
 from .leadin import LeadCandidate, LeadResult, SarShape, optimal_lead
 from .leadout import LeadOutResult, optimal_lead_out
-from .lead_io import Baseline, compare_with_sar, leadin_gcode, leadin_svg
 from .sar_problem import SarGeometry, SarProblem
 from .solution import Solution, SolveStatus
 from .verify import FamilyResidual, VerificationReport, verify_plan

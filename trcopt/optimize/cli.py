@@ -102,8 +102,8 @@ def run_leadin(args: argparse.Namespace) -> int:
     from ..config import DEFAULT_MACHINE, load_machine
     from ..errors import SolverError, TrcoptError
     from ..pipeline import PlanOptions, plan_file
-    from .leadin import optimal_lead
     from .lead_io import compare_with_sar, leadin_gcode, leadin_svg
+    from .leadin import optimal_lead
 
     try:
         machine = load_machine(args.machine) if getattr(args, "machine", None) else DEFAULT_MACHINE
@@ -210,10 +210,11 @@ def _run_leadout(args: argparse.Namespace, inputs: dict, side: object, region: o
             out["program"] = args.program
             Path(args.json_out).write_text(json.dumps(out, indent=1))
         if args.gcode_out:
-            Path(args.gcode_out).write_text(toolpath_to_gcode(lead.segments, program_name=f"lead-out of {args.program}"))
+            gcode = toolpath_to_gcode(lead.segments, program_name=f"lead-out of {args.program}")
+            Path(args.gcode_out).write_text(gcode)
         if args.svg_out:
-            from ..path import Role, Segment
             from ..errors import SourceSpan
+            from ..path import Role, Segment
 
             contour = [Segment(e, inputs["plane"], Role.CONTOUR, SourceSpan(), None) for e in inputs["contour"]]
             Path(args.svg_out).write_text(render_svg(contour, lead.segments, title=f"lead-out: {args.program}"))

@@ -85,7 +85,9 @@ def binding_constraints(traj: TimedTrajectory) -> list[str]:
     ratios = np.column_stack(
         (smp.speed / traj.feeds[smp.segment], np.abs(smp.v) / vmax, np.abs(smp.a) / amax)
     )
-    names = np.array(["feed", "velocity X", "velocity Y", "velocity Z", "acceleration X", "acceleration Y", "acceleration Z"])
+    names = np.array(
+        ["feed", "velocity X", "velocity Y", "velocity Z", "acceleration X", "acceleration Y", "acceleration Z"]
+    )
     which = ratios.argmax(axis=1)
     w = np.diff(traj.t)
     out = []
@@ -122,7 +124,10 @@ def timing_json(traj: TimedTrajectory, samples: str | None) -> dict[str, Any]:
         "machine": traj.machine.to_json(),
         "samples": samples,
         "length_mm": traj.length,
-        "method": "TOPP-RA interpolation scheme on the exact path; const-acceleration output; speed 0 at tangent discontinuities",
+        "method": (
+            "TOPP-RA interpolation scheme on the exact path; const-acceleration output; "
+            "speed 0 at tangent discontinuities"
+        ),
         "sections": sections,
         "max_ratios": None if rep is None else {
             "v": dict(zip("XYZ", rep.v_ratio, strict=True)),

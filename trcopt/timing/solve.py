@@ -83,7 +83,8 @@ def time_parameterize(
             use_toppra[k] = True
     tsecs = [sec for sec, t in zip(sections, use_toppra, strict=True) if t]
     for sec, (grid, x) in zip(tsecs, _solve_toppra_all(tsecs, segments, feeds, vmax, amax, workers), strict=True):
-        iseg = sec.first + np.searchsorted(arrays.start[sec.first : sec.last + 1] - sec.s_start, grid[:-1], side="right") - 1
+        local_start = arrays.start[sec.first : sec.last + 1] - sec.s_start
+        iseg = sec.first + np.searchsorted(local_start, grid[:-1], side="right") - 1
         results[sec.index] = (grid + sec.s_start, x, iseg)
     engines = ["toppra" if t else "own" for t in use_toppra]
     return TimedTrajectory.assemble(segments, machine, feeds, arrays, sections, engines, results)
@@ -112,7 +113,7 @@ def _solve_own(
     amin = float(amax.min())
     # 1. grids: flat list of intervals (segment, local s at both ends) over all sections
     cache: dict[int, tuple[np.ndarray, float]] = {}
-    s_lo, s_hi, seg_of, rate_of, sec_of = [], [], [], [], []
+    s_lo, s_hi, seg_of, rate_of = [], [], [], []
     n_int = np.zeros(len(secs), dtype=np.int64)
     for q, sec in enumerate(secs):
         for k in sec.segment_indices:

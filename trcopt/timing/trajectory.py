@@ -118,7 +118,9 @@ class TimedTrajectory:
     @classmethod
     def empty(cls, machine: Machine) -> TimedTrajectory:
         z = np.zeros(1)
-        return cls([], machine, np.zeros(0), None, [], [], z, z, np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64))
+        return cls(
+            [], machine, np.zeros(0), None, [], [], z, z, np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64)
+        )
 
     @classmethod
     def assemble(
