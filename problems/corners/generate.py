@@ -2,8 +2,8 @@
 
 Run:  python problems/corners/generate.py
 
-* ``cam_circle.mpf`` — a full circle R 25 as 1 mm G1 chords (157 chords, deflection 2.29°), G42
-  outside (a boss), R = 3.
+* ``cam_circle.mpf`` — a circular pocket R 25 as 1 mm G1 chords (157 chords, deflection 2.29°),
+  G41 inside (inside corners), approached from and left to the centre, R = 3.
 * ``cam_freeform.mpf`` — a closed three-lobed cam r(θ) = 28 + 6·sin 3θ as G1 chords of 0.5–2 mm
   chosen for a deflection of about 3° (less near the inflections), convex and concave stretches, G42, R = 3.
 * ``gear_12.mpf`` — a 12-tooth gear of straight flanks (root R 25, tip R 30), G42 outside, R = 2:
@@ -43,11 +43,15 @@ def cam_circle() -> str:
     count = round(2 * math.pi * R / chord)
     pts = [(R * math.cos(2 * math.pi * i / count), R * math.sin(2 * math.pi * i / count)) for i in range(count + 1)]
     pts[-1] = pts[0]
+    # start and end in the middle of a chord: a closed contour entered at a vertex of an inside
+    # corner is gouged by the approach (the controller's path too)
+    mid = ((pts[-2][0] + pts[0][0]) / 2, (pts[-2][1] + pts[0][1]) / 2)
+    pts = [mid, *pts[:-1], mid]
     defl = math.degrees(2 * math.pi / count)
     real = 2 * R * math.sin(math.pi / count)
-    title = (f"Issue 6 benchmark: CAM-style polyline, full circle R {R:g} in {count} chords of {real:.4f} mm "
-             f"(deflection {defl:.2f} deg), G42 outside, R = 3")
-    return _program(title, 3, pts, (R + 12, -12), (R + 12, 12))
+    title = (f"Issue 6 benchmark: CAM-style polyline, circular pocket R {R:g} in {count} chords of {real:.4f} mm "
+             f"(deflection {defl:.2f} deg), G41 inside, R = 3")
+    return _program(title, 3, pts, (0.0, 0.0), (0.0, 0.0), side="G41")
 
 
 def _cam_r(t: float) -> tuple[float, float, float]:
