@@ -228,7 +228,9 @@ def module_path(pts: list[tuple[float, float]], eps: float, feed: float, mode: s
         for i, (a, b) in enumerate(zip(prog_pts, prog_pts[1:], strict=False))
     ]
     try:
-        res = blend_corners(polygon_path(pts, feed), prog, tolerance_mm=eps, mode=mode)
+        # under jerk limits the G2 transitions are the point: no fall-back to circular blends
+        # chosen by the acceleration-limited timing (select=False)
+        res = blend_corners(polygon_path(pts, feed), prog, tolerance_mm=eps, mode=mode, select=False)
     except Exception:  # the module is under development; the comparison reports n/a
         return None
     return res.segments if res.blended else None
