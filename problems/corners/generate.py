@@ -70,9 +70,9 @@ def cam_freeform() -> tuple[str, float, float, float, float, int]:
         chord = min(max(math.radians(3.0) / max(kappa, 1e-9), 0.5), 1.9)
         t += chord / speed
     pts.append(pts[0])
-    chords = [math.dist(a, b) for a, b in zip(pts, pts[1:])]
+    chords = [math.dist(a, b) for a, b in zip(pts, pts[1:], strict=False)]
     defl = []
-    for a, b, c in zip(pts, pts[1:], pts[2:]):
+    for a, b, c in zip(pts, pts[1:], pts[2:], strict=False):
         u = (b[0] - a[0], b[1] - a[1])
         v = (c[0] - b[0], c[1] - b[1])
         defl.append(abs(math.degrees(math.atan2(u[0] * v[1] - u[1] * v[0], u[0] * v[0] + u[1] * v[1]))))
@@ -98,7 +98,9 @@ def gear() -> str:
     ring = [mid, *pts[k + 1:], *pts[: k + 1], mid]
     out = math.hypot(*mid)
     far = ((out + 10) * mid[0] / out, (out + 10) * mid[1] / out)
-    title = f"Issue 6 benchmark: {teeth}-tooth gear, straight flanks, root R {root:g}, tip R {tip:g}, G42 outside, R = 2"
+    title = (
+        f"Issue 6 benchmark: {teeth}-tooth gear, straight flanks, root R {root:g}, tip R {tip:g}, G42 outside, R = 2"
+    )
     return _program(title, 2, ring, far, far)
 
 

@@ -421,8 +421,10 @@ class _LinuxCncCompensator:
         inside = _tool_inside_arc(side, prev.turn)
         oldrad_prog = oldrad + r if inside else oldrad - r
         d = oldrad_prog * math.cos(th - phi)
+        if oldrad == 0.0:  # the previous offset arc shrank to its centre
+            raise _Stop("LCNC-ARC-LINE-GOUGE", span)
         cos_ang = (d - r) / oldrad if inside else (d + r) / oldrad
-        if cos_ang > 1.0 or cos_ang < -1.0 or oldrad == 0.0:
+        if cos_ang > 1.0 or cos_ang < -1.0:
             raise _Stop("LCNC-ARC-LINE-GOUGE", span)
         if inside:
             ang = (-math.acos(cos_ang) if prev.turn > 0 else math.acos(cos_ang)) + th + math.pi

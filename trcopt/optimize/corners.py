@@ -22,9 +22,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..config import DEFAULT_MACHINE, Machine
 from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
-from ..config import DEFAULT_MACHINE, Machine
 from .corners_qp import CornerBlendProblem, CornerGeometry, CornerSite, CornerSolution, material_left, quintic_basis
 from .model import points_distance
 from .verify import part_contour
@@ -289,8 +289,6 @@ def _arc_blend(site: CornerSite, eps: float) -> tuple[Arc, float, float] | None:
         pts, _ = _element_samples(arc, max(arc.plane_length / 200.0, 1e-6))
         return arc, pts
 
-    fine = max(math.sqrt(0.08 * site.radius * eps), 1e-5)
-    la, lb = site.a.plane_length, site.b.plane_length
 
     def ok(T: float) -> bool:
         _, pts = build(T)

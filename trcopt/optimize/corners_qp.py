@@ -402,11 +402,15 @@ class CornerBlendProblem:
         trust = 0.25 * L
         status_msg = "max iterations"
         history: list[float] = []
-        it = 0
+        done = 0
         for it in range(1, max_iter + 1):
+            done = it
             P, q, A, lo, hi = self.qp_matrices(x, trust)
             solver = osqp.OSQP()
-            solver.setup(P, q, A, lo, hi, verbose=False, eps_abs=1e-7, eps_rel=1e-7, max_iter=20000, polishing=True, adaptive_rho_interval=25)
+            solver.setup(
+                P, q, A, lo, hi, verbose=False, eps_abs=1e-7, eps_rel=1e-7, max_iter=20000, polishing=True,
+                adaptive_rho_interval=25,
+            )
             res = solver.solve(raise_error=False)
             if res.x is None or not np.all(np.isfinite(res.x)) or res.info.status_val not in (1, 2):
                 trust *= 0.25
@@ -433,7 +437,7 @@ class CornerBlendProblem:
                     status_msg = "converged (trust region)"
                     break
         x = best[1]
-        self.iterations = it
+        self.iterations = done
         ev = self.evaluate(x, dense=True)
         ok = float(ev["dev"].max()) <= self.eps and float(ev["clear"].min()) >= self.site.radius - 2 * CLEAR_TOL_MM
         C = self.coefficients(x)
@@ -448,7 +452,7 @@ class CornerBlendProblem:
         return Solution(
             SolveStatus.OPTIMAL if ok else SolveStatus.INFEASIBLE,
             geom.max_curvature,
-            it,
+            done,
             time.perf_counter() - t0,
             geom,
             {
