@@ -163,6 +163,38 @@ def _sample(
     return Poly(tuple(points), tuple(tangents), tuple(cum), label)
 
 
+def quintic_hermite_basis(u):  # type: ignore[no-untyped-def]
+    """Quintic Hermite basis functions and their first and second derivatives at ``u`` (a float
+    or a numpy array, elementwise), each a 6-tuple in the coefficient order
+    (P0, D0, A0, A1, D1, P1) of :func:`hermite_curve`."""
+    u2, u3, u4, u5 = u * u, u**3, u**4, u**5
+    h0 = (
+        1 - 10 * u3 + 15 * u4 - 6 * u5,
+        u - 6 * u3 + 8 * u4 - 3 * u5,
+        0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5,
+        0.5 * u3 - u4 + 0.5 * u5,
+        -4 * u3 + 7 * u4 - 3 * u5,
+        10 * u3 - 15 * u4 + 6 * u5,
+    )
+    h1 = (
+        -30 * u2 + 60 * u3 - 30 * u4,
+        1 - 18 * u2 + 32 * u3 - 15 * u4,
+        u - 4.5 * u2 + 6 * u3 - 2.5 * u4,
+        1.5 * u2 - 4 * u3 + 2.5 * u4,
+        -12 * u2 + 28 * u3 - 15 * u4,
+        30 * u2 - 60 * u3 + 30 * u4,
+    )
+    h2 = (
+        -60 * u + 180 * u2 - 120 * u3,
+        -36 * u + 96 * u2 - 60 * u3,
+        1 - 9 * u + 18 * u2 - 10 * u3,
+        3 * u - 12 * u2 + 10 * u3,
+        -24 * u + 84 * u2 - 60 * u3,
+        60 * u - 180 * u2 + 120 * u3,
+    )
+    return h0, h1, h2
+
+
 def hermite_curve(
     p0: Vec3, d0: Vec3, p1: Vec3, d1: Vec3, a0: Vec3 | None = None, a1: Vec3 | None = None, label: str = "hermite"
 ) -> Poly:
@@ -184,35 +216,17 @@ def hermite_curve(
 
         return _sample(f, df, label)
 
-    def fq(u: float) -> Vec3:
-        u2, u3, u4, u5 = u * u, u**3, u**4, u**5
-        b = (
-            1 - 10 * u3 + 15 * u4 - 6 * u5,
-            u - 6 * u3 + 8 * u4 - 3 * u5,
-            0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5,
-            0.5 * u3 - u4 + 0.5 * u5,
-            -4 * u3 + 7 * u4 - 3 * u5,
-            10 * u3 - 15 * u4 + 6 * u5,
-        )
+    def combine(b: tuple[float, ...]) -> Vec3:
         return tuple(  # type: ignore[return-value]
             b[0] * P0 + b[1] * D0 + b[2] * A0 + b[3] * A1 + b[4] * D1 + b[5] * P1
             for P0, D0, A0, A1, D1, P1 in zip(p0, d0, a0, a1, d1, p1, strict=True)
         )
 
+    def fq(u: float) -> Vec3:
+        return combine(quintic_hermite_basis(u)[0])
+
     def dfq(u: float) -> Vec3:
-        u2, u3, u4 = u * u, u**3, u**4
-        b = (
-            -30 * u2 + 60 * u3 - 30 * u4,
-            1 - 18 * u2 + 32 * u3 - 15 * u4,
-            u - 4.5 * u2 + 6 * u3 - 2.5 * u4,
-            1.5 * u2 - 4 * u3 + 2.5 * u4,
-            -12 * u2 + 28 * u3 - 15 * u4,
-            30 * u2 - 60 * u3 + 30 * u4,
-        )
-        return tuple(  # type: ignore[return-value]
-            b[0] * P0 + b[1] * D0 + b[2] * A0 + b[3] * A1 + b[4] * D1 + b[5] * P1
-            for P0, D0, A0, A1, D1, P1 in zip(p0, d0, a0, a1, d1, p1, strict=True)
-        )
+        return combine(quintic_hermite_basis(u)[1])
 
     return _sample(fq, dfq, label)
 

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..geometry import Arc, Line
+from ..geometry.poly import quintic_hermite_basis
 from .model import points_distance
 from .solution import Solution, SolveStatus
 
@@ -49,41 +50,8 @@ def quintic_basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Quintic Hermite basis and its first two derivatives at ``u`` (K×6 each), coefficient order
     (P0, D0, A0, A1, D1, P1) as in :func:`trcopt.geometry.hermite_curve`."""
     u = np.asarray(u, float)
-    u2, u3, u4, u5 = u * u, u**3, u**4, u**5
-    h0 = np.stack(
-        (
-            1 - 10 * u3 + 15 * u4 - 6 * u5,
-            u - 6 * u3 + 8 * u4 - 3 * u5,
-            0.5 * u2 - 1.5 * u3 + 1.5 * u4 - 0.5 * u5,
-            0.5 * u3 - u4 + 0.5 * u5,
-            -4 * u3 + 7 * u4 - 3 * u5,
-            10 * u3 - 15 * u4 + 6 * u5,
-        ),
-        axis=1,
-    )
-    h1 = np.stack(
-        (
-            -30 * u2 + 60 * u3 - 30 * u4,
-            1 - 18 * u2 + 32 * u3 - 15 * u4,
-            u - 4.5 * u2 + 6 * u3 - 2.5 * u4,
-            1.5 * u2 - 4 * u3 + 2.5 * u4,
-            -12 * u2 + 28 * u3 - 15 * u4,
-            30 * u2 - 60 * u3 + 30 * u4,
-        ),
-        axis=1,
-    )
-    h2 = np.stack(
-        (
-            -60 * u + 180 * u2 - 120 * u3,
-            -36 * u + 96 * u2 - 60 * u3,
-            1 - 9 * u + 18 * u2 - 10 * u3,
-            3 * u - 12 * u2 + 10 * u3,
-            -24 * u + 84 * u2 - 60 * u3,
-            60 * u - 180 * u2 + 120 * u3,
-        ),
-        axis=1,
-    )
-    return h0, h1, h2
+    h0, h1, h2 = quintic_hermite_basis(u)
+    return tuple(np.stack(np.broadcast_arrays(*h), axis=1) for h in (h0, h1, h2))  # type: ignore[return-value]
 
 
 def _frame_back(el: Element, s_back: float) -> tuple[np.ndarray, np.ndarray, float]:

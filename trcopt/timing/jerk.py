@@ -44,7 +44,7 @@ from ..path import Segment
 from .jerk_problem import JerkProblem, SectionProfile, path_derivatives, section_label
 from .path import PathArrays
 from .sections import Section, axis_limits, segment_feeds, split_sections
-from .trajectory import Samples, TimedTrajectory
+from .trajectory import Samples, TimedTrajectory, sample_times
 
 __all__ = ["jerk_limited", "JerkTrajectory", "JerkLimitReport", "JerkSamples", "jerk_limits"]
 
@@ -228,13 +228,7 @@ class JerkTrajectory:
 
     def sample(self, dt: float = 1e-3) -> JerkSamples:
         """Samples every ``dt`` seconds from 0 to the duration (both included)."""
-        if dt <= 0:
-            raise ValueError("dt must be positive (s)")
-        n = int(np.floor(self.duration / dt)) + 1
-        ts = np.arange(n) * dt
-        if ts[-1] < self.duration:
-            ts = np.append(ts, self.duration)
-        return self.evaluate(ts)
+        return self.evaluate(sample_times(self.duration, dt))
 
     def grid_states(self) -> JerkSamples:
         """The state at both ends of every interval, evaluated on the interval's own segment."""

@@ -21,7 +21,18 @@ from ..path import Segment
 from .path import PathArrays
 from .sections import Section, axis_limits
 
-__all__ = ["TimedTrajectory", "Samples", "LimitReport"]
+__all__ = ["TimedTrajectory", "Samples", "LimitReport", "sample_times"]
+
+
+def sample_times(duration: float, dt: float) -> np.ndarray:
+    """Times every ``dt`` seconds from 0 to ``duration``, both included, s."""
+    if dt <= 0:
+        raise ValueError("dt must be positive (s)")
+    n = int(np.floor(duration / dt)) + 1
+    ts = np.arange(n) * dt
+    if ts[-1] < duration:
+        ts = np.append(ts, duration)
+    return ts
 
 
 @dataclass(frozen=True)
@@ -219,13 +230,7 @@ class TimedTrajectory:
 
     def sample(self, dt: float = 1e-3) -> Samples:
         """Samples every ``dt`` seconds from 0 to the duration (both included)."""
-        if dt <= 0:
-            raise ValueError("dt must be positive (s)")
-        n = int(np.floor(self.duration / dt)) + 1
-        ts = np.arange(n) * dt
-        if ts[-1] < self.duration:
-            ts = np.append(ts, self.duration)
-        return self.evaluate(ts)
+        return self.evaluate(sample_times(self.duration, dt))
 
     def grid_states(self) -> Samples:
         """The state at both ends of every grid interval, evaluated inside the interval."""
