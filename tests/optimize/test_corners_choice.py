@@ -79,3 +79,16 @@ def test_outside_corners_of_small_deflection_keep_r_from_the_programmed_vertex()
     best = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
     t_best, t_arc = time_parameterize(best.segments).duration, time_parameterize(arc.segments).duration
     assert t_best <= t_arc * (1 + 1e-12) < time_parameterize(r.toolpath).duration
+
+
+def test_per_corner_mix_is_timed_and_kept_only_when_faster(inside, monkeypatch):
+    import trcopt.optimize.corners as corners_mod
+
+    # force a mix (odd corners G2, even circular) through the local estimate
+    calls = iter(range(100))
+    monkeypatch.setattr(corners_mod, "_local_time", lambda *a: -1.0 if next(calls) % 2 else 1.0)
+    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal")
+    arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
+    assert time_parameterize(opt.segments).duration <= time_parameterize(arc.segments).duration * (1 + 1e-12)
+    assert opt.max_deviation_mm <= EPS and isinstance(opt.max_deviation_mm, float)
+    assert not gouges(inside.programmed, opt.segments)

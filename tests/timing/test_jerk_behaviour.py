@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 
@@ -200,7 +201,8 @@ def test_parallel_sections_give_the_same_profile():
 def test_poly_transition_nodes_on_every_hermite_joint_and_limits_hold():
     from trcopt.geometry import hermite_curve
 
-    # a G2 quintic 90° transition between two lines, stored as a Poly (cubic Hermite pieces)
+    # a G2 quintic 90° transition between two lines, stored as a Poly with its sample curvatures
+    # (quintic Hermite pieces, curvature-continuous)
     quint = hermite_curve(
         (9.0, 0.0, 0.0), (2.0, 0.0, 0.0), (10.0, 1.0, 0.0), (0.0, 2.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
     )
@@ -214,8 +216,16 @@ def test_poly_transition_nodes_on_every_hermite_joint_and_limits_hold():
     start = traj.time_at_segment_starts()
     joints = np.asarray(quint.cum)[1:-1] + 9.0
     assert np.all(np.isin(np.round(joints, 9), np.round(traj.s0, 9)))  # every Hermite joint is a node
-    assert traj.knot_s.shape[0] >= joints.shape[0]  # q″ jumps there (cubic pieces), treated as knots
+    # curvature-continuous: no knot anywhere (the quintic meets the lines with zero curvature)
+    assert traj.knot_s.shape[0] == 0
     rep = traj.check_limits(dt=1e-4)
     assert rep.ok, str(rep)
     assert max(rep.jerk_smooth_ratio) <= 1.01 and max(rep.jerk_knot_ratio) <= 1.0 + 1e-6
     assert start[1] < start[2] < traj.duration
+    # the same samples as cubic Hermite pieces (tangents only): q″ jumps at every joint, each one a
+    # knot with its own speed cap; both feeds respect the limits
+    cubic = dataclasses.replace(quint, curvatures=None)
+    traj_c = jerk_limited([path[0], seg(cubic, block="N20"), path[2]], ISO)
+    assert traj_c.knot_s.shape[0] >= joints.shape[0]
+    assert traj_c.check_limits(dt=1e-4).ok
+    assert traj.duration == pytest.approx(traj_c.duration, rel=0.01)

@@ -3,7 +3,10 @@
 A :class:`Poly` keeps an adaptive sampling of its defining function (chord error ≤ ``chord_tol``,
 1 µm by default) together with the exact unit tangent at each sample; between samples it is
 evaluated by cubic Hermite interpolation in arc length, so it is tangent-continuous for timing and
-exact at every sample.
+exact at every sample. When the curvature vectors at the samples are known (``curvatures``, the
+second derivative in arc length — quintic transitions and lead curves), the pieces are quintic
+Hermite polynomials instead: the curve is then curvature-continuous, which the jerk-limited feed
+needs (a cubic piece chain has a jump of q″ at every sample).
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ class Poly:
     tangents: tuple[Vec3, ...]
     cum: tuple[float, ...]
     label: str = "poly"
+    curvatures: tuple[Vec3, ...] | None = None  # d²q/ds² at the samples (G2 interpolation when given)
 
     @property
     def start(self) -> Vec3:
@@ -73,16 +77,26 @@ class Poly:
         return self.derivatives(s)[0]
 
     def derivatives(self, s: float) -> tuple[Vec3, Vec3, Vec3]:
-        """Cubic Hermite interpolation in arc length between samples."""
+        """Position, first and second derivative in arc length: cubic Hermite interpolation between
+        samples, quintic when the sample curvatures are known."""
         i, h, t = self._locate(s)
         p0, p1 = self.points[i], self.points[i + 1]
         m0, m1 = self.tangents[i], self.tangents[i + 1]
+        hh = h if h > 0 else 1.0
+        if self.curvatures is not None:
+            k0, k1 = self.curvatures[i], self.curvatures[i + 1]
+            b0, b1, b2 = quintic_hermite_basis(t)
+            coef = [(a, h * c, h * h * e, h * h * f, h * d, b) for a, b, c, d, e, f in zip(p0, p1, m0, m1, k0, k1,
+                                                                                          strict=True)]
+            p = tuple(sum(w * x for w, x in zip(b0, row, strict=True)) for row in coef)
+            d1 = tuple(sum(w * x for w, x in zip(b1, row, strict=True)) / hh for row in coef)
+            d2 = tuple(sum(w * x for w, x in zip(b2, row, strict=True)) / (hh * hh) for row in coef)
+            return (p[0], p[1], p[2]), (d1[0], d1[1], d1[2]), (d2[0], d2[1], d2[2])
         t2, t3 = t * t, t * t * t
         h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
         d00, d10, d01, d11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
         e00, e10, e01, e11 = 12 * t - 6, 6 * t - 4, -12 * t + 6, 6 * t - 2
         p = tuple(h00 * a + h10 * h * c + h01 * b + h11 * h * d for a, b, c, d in zip(p0, p1, m0, m1, strict=True))
-        hh = h if h > 0 else 1.0
         d1 = tuple(
             (d00 * a + d10 * h * c + d01 * b + d11 * h * d) / hh for a, b, c, d in zip(p0, p1, m0, m1, strict=True)
         )
@@ -92,6 +106,26 @@ class Poly:
         )
         return (p[0], p[1], p[2]), (d1[0], d1[1], d1[2]), (d2[0], d2[1], d2[2])
 
+    def third(self, s: float) -> Vec3:
+        """Third derivative in arc length at ``s`` (constant on a cubic piece, quadratic in s on a
+        quintic one); per mm²."""
+        i, h, t = self._locate(s)
+        if h <= 0:
+            return (0.0, 0.0, 0.0)
+        p0, p1, m0, m1 = self.points[i], self.points[i + 1], self.tangents[i], self.tangents[i + 1]
+        if self.curvatures is None:
+            out = tuple(
+                (12 * a + 6 * h * c - 12 * b + 6 * h * d) / h**3 for a, b, c, d in zip(p0, p1, m0, m1, strict=True)
+            )
+            return (out[0], out[1], out[2])
+        k0, k1 = self.curvatures[i], self.curvatures[i + 1]
+        b3 = quintic_hermite_third(t)
+        out = tuple(
+            (b3[0] * a + b3[1] * h * c + b3[2] * h * h * e + b3[3] * h * h * f + b3[4] * h * d + b3[5] * b) / h**3
+            for a, b, c, d, e, f in zip(p0, p1, m0, m1, k0, k1, strict=True)
+        )
+        return (out[0], out[1], out[2])
+
     def reversed(self) -> Poly:
         total = self.cum[-1]
         return Poly(
@@ -99,6 +133,7 @@ class Poly:
             tuple((-t[0], -t[1], -t[2]) for t in reversed(self.tangents)),
             tuple(total - c for c in reversed(self.cum)),
             self.label,
+            None if self.curvatures is None else tuple(reversed(self.curvatures)),
         )
 
     def distance2(self, p: Vec2) -> float:
@@ -124,7 +159,10 @@ class Poly:
             _unit3(self.derivatives(s1)[1])
         ]
         cum = [0.0] + [self.cum[i] - s0 for i in keep] + [s1 - s0]
-        return Poly(tuple(pts), tuple(tans), tuple(cum), self.label)
+        curv = None
+        if self.curvatures is not None:
+            curv = (self.derivatives(s0)[2], *(self.curvatures[i] for i in keep), self.derivatives(s1)[2])
+        return Poly(tuple(pts), tuple(tans), tuple(cum), self.label, curv)
 
 
 def _unit3(a: Vec3) -> Vec3:
@@ -133,7 +171,11 @@ def _unit3(a: Vec3) -> Vec3:
 
 
 def _sample(
-    f: Callable[[float], Vec3], df: Callable[[float], Vec3], label: str, tol: float = CHORD_TOL_MM / 2
+    f: Callable[[float], Vec3],
+    df: Callable[[float], Vec3],
+    label: str,
+    tol: float = CHORD_TOL_MM / 2,
+    d2f: Callable[[float], Vec3] | None = None,
 ) -> Poly:
     """Adaptive sampling of a parametric curve on u ∈ [0, 1] to a chord error ≤ tol."""
     us = [0.0, 1.0]
@@ -156,11 +198,41 @@ def _sample(
     us = sorted(set(final))
     points = [pts[u] if u in pts else f(u) for u in us]
     cum = [0.0]
-    for p, q in zip(points, points[1:], strict=False):
-        # chord length refined by the mid-point (Simpson-like), exact to O(h^4)
-        cum.append(cum[-1] + math.dist(p, q))
+    if d2f is None:
+        for p, q in zip(points, points[1:], strict=False):
+            cum.append(cum[-1] + math.dist(p, q))  # chord length
+    else:
+        # true arc length (5-point Gauss-Legendre of |P′| per piece): the quintic pieces then follow
+        # the arc-length parametrisation closely enough for a meaningful third derivative
+        for a, b in zip(us, us[1:], strict=False):
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            piece = sum(w * _norm3(df(mid + half * x)) for x, w in _GAUSS5)
+            cum.append(cum[-1] + half * piece)
     tangents = [_unit3(df(u)) for u in us]
-    return Poly(tuple(points), tuple(tangents), tuple(cum), label)
+    curvatures = None if d2f is None else tuple(_curvature_vector(df(u), d2f(u)) for u in us)
+    return Poly(tuple(points), tuple(tangents), tuple(cum), label, curvatures)
+
+
+_GAUSS5 = (
+    (0.0, 128 / 225),
+    (-math.sqrt(5 - 2 * math.sqrt(10 / 7)) / 3, (322 + 13 * math.sqrt(70)) / 900),
+    (math.sqrt(5 - 2 * math.sqrt(10 / 7)) / 3, (322 + 13 * math.sqrt(70)) / 900),
+    (-math.sqrt(5 + 2 * math.sqrt(10 / 7)) / 3, (322 - 13 * math.sqrt(70)) / 900),
+    (math.sqrt(5 + 2 * math.sqrt(10 / 7)) / 3, (322 - 13 * math.sqrt(70)) / 900),
+)
+
+
+def _norm3(a: Vec3) -> float:
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+def _curvature_vector(d1: Vec3, d2: Vec3) -> Vec3:
+    """d²q/ds² from the parametric derivatives: the part of P″ normal to P′, over |P′|²."""
+    n2 = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2]
+    if n2 <= 0:
+        return (0.0, 0.0, 0.0)
+    along = (d2[0] * d1[0] + d2[1] * d1[1] + d2[2] * d1[2]) / n2
+    return ((d2[0] - along * d1[0]) / n2, (d2[1] - along * d1[1]) / n2, (d2[2] - along * d1[2]) / n2)
 
 
 def quintic_hermite_basis(u):  # type: ignore[no-untyped-def]
@@ -193,6 +265,20 @@ def quintic_hermite_basis(u):  # type: ignore[no-untyped-def]
         60 * u - 180 * u2 + 120 * u3,
     )
     return h0, h1, h2
+
+
+def quintic_hermite_third(u):  # type: ignore[no-untyped-def]
+    """Third derivatives of the quintic Hermite basis functions (order as
+    :func:`quintic_hermite_basis`)."""
+    u2 = u * u
+    return (
+        -60 + 360 * u - 360 * u2,
+        -36 + 192 * u - 180 * u2,
+        -9 + 36 * u - 30 * u2,
+        3 - 24 * u + 30 * u2,
+        -24 + 168 * u - 180 * u2,
+        60 - 360 * u + 360 * u2,
+    )
 
 
 def hermite_curve(
@@ -228,7 +314,10 @@ def hermite_curve(
     def dfq(u: float) -> Vec3:
         return combine(quintic_hermite_basis(u)[1])
 
-    return _sample(fq, dfq, label)
+    def d2fq(u: float) -> Vec3:
+        return combine(quintic_hermite_basis(u)[2])
+
+    return _sample(fq, dfq, label, d2f=d2fq)
 
 
 def conic_curve(q0: Vec2, q1: Vec2, q2: Vec2, weight: float, w: float, label: str = "conic") -> Poly:

@@ -401,7 +401,7 @@ def _fastest(
         choice[k] = "quintic" if _local_time(sol.geometry, built, feed, a_lat) <= 0.0 else "arc"
     if set(choice.values()) == {"quintic", "arc"}:
         hybrid = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, choice)
-        hybrid.max_deviation_mm = cut_deviation(programmed, segs, hybrid.segments)
+        hybrid.max_deviation_mm = cut_deviation(programmed, segs, hybrid.segments)[0]
         if hybrid.max_deviation_mm <= tolerance_mm:
             t_h = time_parameterize(hybrid.segments, m).duration
             if t_h < t_best:

@@ -50,7 +50,7 @@ __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 
 DTHETA_JERK = 0.05  # rad, largest arc angle per interval
 ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
-CURVATURE_JUMP_TOL = 1e-9
+CURVATURE_JUMP_TOL = 1e-6  # 1/mm: smaller q″ differences at a node are interpolation noise (G2 Poly pieces)
 RAMP_SHARE = 0.5  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
 
 
@@ -82,12 +82,7 @@ def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) 
 
 
 def _poly_third(g: Poly, s: float) -> tuple[float, float, float]:
-    i, h, _ = g._locate(s)
-    if h <= 0:
-        return (0.0, 0.0, 0.0)
-    p0, p1, m0, m1 = g.points[i], g.points[i + 1], g.tangents[i], g.tangents[i + 1]
-    out = tuple((12 * a + 6 * h * c - 12 * b + 6 * h * d) / h**3 for a, b, c, d in zip(p0, p1, m0, m1, strict=True))
-    return (out[0], out[1], out[2])
+    return g.third(s)
 
 
 @dataclass(frozen=True)
