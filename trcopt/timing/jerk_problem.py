@@ -50,6 +50,7 @@ __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 
 DTHETA_JERK = 0.05  # rad, largest arc angle per interval
 ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
+POLY_ROW_FRACTIONS = (0.25, 0.5, 0.75)  # interior rows of a Poly interval, fractions of its duration
 CURVATURE_JUMP_TOL = 1e-6  # 1/mm: smaller q″ differences at a node are interpolation noise (G2 Poly pieces)
 RAMP_SHARE = 0.5  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
 
@@ -83,6 +84,25 @@ def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) 
 
 def _poly_third(g: Poly, s: float) -> tuple[float, float, float]:
     return g.third(s)
+
+
+def _refine_third(g: Poly, loc: np.ndarray, rel: float = 0.1, rounds: int = 8) -> np.ndarray:
+    """Split the Poly intervals over which q‴ changes by more than ``rel`` of the larger end value
+    (quintic pieces of a sharp transition: q‴ can change tenfold within a few µm), so that the
+    interval rows, which take q‴ linear, hold in between."""
+    if g.curvatures is None:
+        return loc
+    for _ in range(rounds):
+        third = np.array([g.third(float(x) + (1e-9 if i == 0 else -1e-9)) for i, x in enumerate(loc)])
+        inner = np.array([g.third(float(x) + 1e-9) for x in loc])
+        lo_q, hi_q = inner[:-1], third[1:]
+        change = np.linalg.norm(hi_q - lo_q, axis=1)
+        scale = np.maximum(np.linalg.norm(hi_q, axis=1), np.linalg.norm(lo_q, axis=1))
+        split = np.nonzero((change > rel * scale) & (np.diff(loc) > 2e-7))[0]
+        if split.shape[0] == 0:
+            break
+        loc = np.sort(np.concatenate((loc, 0.5 * (loc[split] + loc[split + 1]))))
+    return loc
 
 
 @dataclass(frozen=True)
@@ -232,6 +252,7 @@ class JerkProblem:
                 loc = np.unique(np.concatenate((loc, joints[(joints > 0) & (joints < ar.length[k])])))
                 loc = loc[np.concatenate(([True], np.diff(loc) > 1e-9))]
                 loc[-1] = ar.length[k]
+                loc = _refine_third(ar.evals[k].segment.geometry, loc)  # type: ignore[arg-type]
                 n = loc.shape[0] - 1
             s_nodes.append(ar.start[k] + loc[1:])
             iseg.append(np.full(n, k))
@@ -394,25 +415,34 @@ class JerkProblem:
                 opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
 
     def _poly_midpoint_rows(self, opti: Any, ca: Any, v0: Any, a0: Any, h: Any, jj: Any) -> None:
-        """The same midpoint rows on Poly intervals: inside one cubic Hermite piece q‴ is constant,
-        so q″ and q′ at the midpoint follow exactly from the values at the interval start."""
+        """Rows at a quarter, half and three quarters of the time of every Poly interval: q′, q″, q‴
+        at those points follow from the values at the interval start by a Taylor expansion with
+        q‴ linear between its values at both ends.
+        Poly transitions are sharp (curvature up to 1/ε), so the direction turns noticeably
+        within one interval and the bilinear term 3q″·ṡ·s̈ can peak between the nodes."""
         idx = np.nonzero(self.arrays.kind[self.iseg] == 2)[0]
         if idx.shape[0] == 0:
             return
         rows = [int(i) for i in idx]
         v, a, hh, j = v0[rows], a0[rows], h[rows], jj[rows]
-        sdd = a + j * hh / 2
-        sd = v + a * hh / 2 + j * hh**2 / 8
-        sig = v * hh / 2 + a * hh**2 / 8 + j * hh**3 / 48
         d1, d2, d3 = (x[idx] for x in self.dl)
-        for k in self.axes_used:
-            q3 = ca.DM(d3[:, k])
-            q2 = ca.DM(d2[:, k]) + q3 * sig
-            q1 = ca.DM(d1[:, k]) + ca.DM(d2[:, k]) * sig + q3 * sig**2 / 2
-            acc = (q1 * sdd + q2 * sd**2) / self.amax[k]
-            jerk = (q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j) / self.jmax[k]
-            opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
-            opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
+        # q‴ linear in s across the interval (its end values): exact on cubic pieces (constant),
+        # second order on quintic ones, where q‴ can change by an order of magnitude near the ends
+        d4 = (self.dr[2][idx] - d3) / self.delta[idx][:, None]
+        for frac in POLY_ROW_FRACTIONS:
+            tau = frac * hh
+            sdd = a + j * tau
+            sd = v + a * tau + j * tau**2 / 2
+            sig = v * tau + a * tau**2 / 2 + j * tau**3 / 6
+            for k in self.axes_used:
+                q4 = ca.DM(d4[:, k])
+                q3 = ca.DM(d3[:, k]) + q4 * sig
+                q2 = ca.DM(d2[:, k]) + ca.DM(d3[:, k]) * sig + q4 * sig**2 / 2
+                q1 = ca.DM(d1[:, k]) + ca.DM(d2[:, k]) * sig + ca.DM(d3[:, k]) * sig**2 / 2 + q4 * sig**3 / 6
+                acc = (q1 * sdd + q2 * sd**2) / self.amax[k]
+                jerk = (q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j) / self.jmax[k]
+                opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
+                opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
 
     @property
     def opti(self) -> Any:
