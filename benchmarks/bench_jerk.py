@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from timing_cases import ANISO, ISO, families  # noqa: E402
 
 from trcopt import Arc, Line, Plane, Role, Segment, SourceSpan  # noqa: E402
+from trcopt.config import Machine  # noqa: E402
 from trcopt.nc.model import Side  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 from trcopt.timing.doubles import double_s_polyline_time  # noqa: E402
@@ -215,24 +216,30 @@ def programmed_polygon(pts: list[tuple[float, float]], radius: float = 3.0) -> l
     return [(float(x), float(y)) for x, y in out]
 
 
-def module_path(pts: list[tuple[float, float]], eps: float, feed: float, mode: str = "optimal") -> list[Segment] | None:
-    """Transitions from ``trcopt.optimize.corners.blend_corners`` (``mode="optimal"``: G2 quintics;
-    ``"arc"``: same-ε circular blends, ε measured on the cut part) when importable and blending, else None."""
-    try:
-        from trcopt.optimize.corners import blend_corners
-    except ImportError:
-        return None
+def module_path(
+    pts: list[tuple[float, float]],
+    eps: float,
+    feed: float,
+    mode: str = "optimal",
+    objective: str = "curvature",
+    machine: Machine = ISO,
+) -> list[Segment] | None:
+    """Transitions from ``trcopt.optimize.corners.blend_corners`` (``mode="optimal"``: G2 quintics,
+    least peak curvature or, with ``objective="jerk"``, least curvature-rate cost under ``machine``'s
+    jerk limit; ``"arc"``: same-ε circular blends, ε measured on the cut part); None when no corner
+    could be blended."""
+    from trcopt.optimize.corners import blend_corners
+
     prog_pts = programmed_polygon(pts)
     prog = [
         Segment(Line((*a, 0.0), (*b, 0.0)), Plane.G17, Role.CONTOUR, SourceSpan("part", i + 1, 1), feed)
         for i, (a, b) in enumerate(zip(prog_pts, prog_pts[1:], strict=False))
     ]
-    try:
-        # under jerk limits the G2 transitions are the point: no fall-back to circular blends
-        # chosen by the acceleration-limited timing (select=False)
-        res = blend_corners(polygon_path(pts, feed), prog, tolerance_mm=eps, mode=mode, select=False)
-    except Exception:  # the module is under development; the comparison reports n/a
-        return None
+    # under jerk limits the G2 transitions are the point: no fall-back to circular blends chosen
+    # by the acceleration-limited timing (select=False)
+    res = blend_corners(
+        polygon_path(pts, feed), prog, tolerance_mm=eps, mode=mode, select=False, objective=objective, machine=machine
+    )
     return res.segments if res.blended else None
 
 
@@ -251,6 +258,9 @@ def compare_parts(eps: float = 0.05, feed: float = 150.0, machine=ISO, with_opti
         if with_optimal:
             variants[f"circular blend, cut ε={eps} (corners, arc)"] = module_path(pts, eps, feed, "arc")
             variants[f"optimal transitions, cut ε={eps} (corners)"] = optimal_path(pts, eps, feed)
+            variants[f"optimal transitions, jerk objective, cut ε={eps} (corners)"] = module_path(
+                pts, eps, feed, "optimal", "jerk", machine
+            )
         for label, path in variants.items():
             if path is None:
                 rows.append(

@@ -225,6 +225,7 @@ def plan(
     if opts.corners != "exact" and toolpath and result.ok:
         from .optimize.corners import blend_corners
 
+        objective = "jerk" if opts.jerk and _has_xy_jerk(opts.machine) else "curvature"
         blended = blend_corners(
             toolpath,
             programmed,
@@ -233,11 +234,15 @@ def plan(
             mode=opts.corners,
             workers=opts.workers,
             select=not opts.jerk,
+            # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
+            # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
+            objective=objective,
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
             "mode": opts.corners,
             "tolerance_mm": opts.tolerance_mm,
+            "objective": objective if opts.corners == "optimal" else None,
             "blended": blended.blended,
             "quintic": blended.count("quintic"),
             "arc": blended.count("arc"),
@@ -246,6 +251,10 @@ def plan(
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine, jerk=opts.jerk, workers=opts.workers)
     return result
+
+
+def _has_xy_jerk(machine: Machine) -> bool:
+    return all(machine.axis(k).jmax_mm_s3 is not None for k in "XY")
 
 
 def _attach_toolholder(result: PlanResult) -> None:

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..config import DEFAULT_MACHINE, Machine
+from ..errors import ConfigError
 from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
 from .corners_qp import CornerBlendProblem, CornerGeometry, CornerSite, CornerSolution, material_left, quintic_basis
@@ -320,6 +321,7 @@ def blend_corners(
     mode: str | CornerMode = CornerMode.OPTIMAL,
     workers: int = 1,
     select: bool = True,
+    objective: str = "curvature",
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
 
@@ -343,8 +345,22 @@ def blend_corners(
         both on ``machine`` (the default machine when omitted) and return the fastest, so the
         result is never slower than the circular blends. ``False`` keeps the G2 transitions
         wherever they are feasible (wanted under jerk limits, where curvature continuity pays).
+    objective:
+        ``optimal`` only: ``"curvature"`` minimises the peak curvature (the speed limit under
+        acceleration limits); ``"jerk"`` minimises the larger of the curvature and the curvature
+        equivalent of the curvature rate under the machine's X/Y jerk limit
+        (:meth:`CornerBlendProblem.objective_samples`), for jerk-limited timing.
     """
     mode = CornerMode.parse(mode)
+    if objective not in ("curvature", "jerk"):
+        raise ValueError(f"unknown corner objective {objective!r}; valid: curvature, jerk")
+    limits = None
+    if objective == "jerk":
+        m = machine or DEFAULT_MACHINE
+        jm = [m.axis(k).jmax_mm_s3 for k in "XY"]
+        if any(j is None for j in jm):
+            raise ConfigError(f"machine {m.name!r}: the jerk objective needs jmax_mm_s3 on X and Y")
+        limits = (min(m.axis(k).amax_mm_s2 for k in "XY"), float(min(jm)))  # type: ignore[type-var]
     segs = list(toolpath)
     if mode is CornerMode.EXACT or tolerance_mm <= 0:
         return CornerResult(segs, [], 0.0, mode)
@@ -355,7 +371,8 @@ def blend_corners(
     solved: dict[tuple[int, float], CornerSolution] = {}
     for _round in range(4):
         if mode is CornerMode.OPTIMAL:
-            _solve_sites([(k, site, eps_of[k]) for k, site in sites if (k, eps_of[k]) not in solved], solved, workers)
+            jobs = [(k, site, eps_of[k], limits) for k, site in sites if (k, eps_of[k]) not in solved]
+            _solve_sites(jobs, solved, workers)
         result = _assemble(segs, sites, eps_of, mode, solved)
         dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
         result.max_deviation_mm = dev
@@ -434,13 +451,17 @@ def _local_time(q: CornerGeometry, built: tuple[Arc, float, float], feed: float,
     return t_q - t_a
 
 
-def _solve_one(job: tuple[int, CornerSite, float]) -> tuple[tuple[int, float], CornerSolution]:
-    k, site, eps = job
-    return (k, eps), CornerBlendProblem(site, eps).solve()
+def _solve_one(
+    job: tuple[int, CornerSite, float, tuple[float, float] | None],
+) -> tuple[tuple[int, float], CornerSolution]:
+    k, site, eps, limits = job
+    return (k, eps), CornerBlendProblem(site, eps, limits=limits).solve()
 
 
 def _solve_sites(
-    jobs: list[tuple[int, CornerSite, float]], solved: dict[tuple[int, float], CornerSolution], workers: int
+    jobs: list[tuple[int, CornerSite, float, tuple[float, float] | None]],
+    solved: dict[tuple[int, float], CornerSolution],
+    workers: int,
 ) -> None:
     """Solve the corner problems of ``jobs`` into ``solved`` (keyed by corner index and ε)."""
     if workers > 1 and len(jobs) >= PARALLEL_MIN_CORNERS:

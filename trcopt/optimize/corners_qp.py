@@ -15,8 +15,10 @@ Constraints (all evaluated exactly on samples, linearised by finite differences)
 * positive end speeds, available lengths on both neighbours.
 
 Objective: the largest |curvature| (epigraph variable), the time surrogate of a corner (speed
-through it ≈ sqrt(a/κ)). Each SQP step solves an OSQP QP in ``(Δx, t)`` with a proximal term and
-a trust region; steps are accepted on an exact merit function.
+through it ≈ sqrt(a/κ)); under jerk limits (``limits=(amax, jmax)``) the larger of |κ| and the
+curvature equivalent of the curvature rate, ``amax·(|dκ/ds|/jmax)^(2/3)`` (following a curvature
+change at speed v takes jerk v³·|dκ/ds|). Each SQP step solves an OSQP QP in scaled variables with
+a proximal term and a trust region; steps are accepted on an exact merit function.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..geometry import Arc, Line
-from ..geometry.poly import quintic_hermite_basis
+from ..geometry.poly import quintic_hermite_basis, quintic_hermite_third
 from .model import points_distance
 from .solution import Solution, SolveStatus
 
@@ -52,6 +54,12 @@ def quintic_basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     u = np.asarray(u, float)
     h0, h1, h2 = quintic_hermite_basis(u)
     return tuple(np.stack(np.broadcast_arrays(*h), axis=1) for h in (h0, h1, h2))  # type: ignore[return-value]
+
+
+def _third_basis(u: np.ndarray) -> np.ndarray:
+    """Third derivatives of the quintic Hermite basis at ``u`` (K×6)."""
+    u = np.asarray(u, float)
+    return np.stack(np.broadcast_arrays(*quintic_hermite_third(u)), axis=1)
 
 
 def _frame_back(el: Element, s_back: float) -> tuple[np.ndarray, np.ndarray, float]:
@@ -218,13 +226,19 @@ class CornerBlendProblem:
 
     N_VAR = 6
 
-    def __init__(self, site: CornerSite, tolerance_mm: float, samples: int = 48):
+    def __init__(
+        self, site: CornerSite, tolerance_mm: float, samples: int = 48, limits: tuple[float, float] | None = None
+    ):
         if tolerance_mm <= 0:
             raise ValueError(f"tolerance_mm must be positive, got {tolerance_mm!r}")
+        if limits is not None and not (limits[0] > 0 and limits[1] > 0):
+            raise ValueError(f"limits (amax mm/s², jmax mm/s³) must be positive, got {limits!r}")
         self.site = site
         self.eps = float(tolerance_mm)
+        self.limits = limits
         self.u = np.linspace(0.0, 1.0, samples)
         self.H0, self.H1, self.H2 = quintic_basis(self.u)
+        self.H3 = _third_basis(self.u)
         self.iterations = 0
         self.x0 = self._initial_guess()
 
@@ -258,17 +272,38 @@ class CornerBlendProblem:
             H0, H1, H2 = self.H0, self.H1, self.H2
         p, d1, d2 = H0 @ C, H1 @ C, H2 @ C
         sp = np.hypot(d1[:, 0], d1[:, 1])
-        kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(sp, 1e-300) ** 3
+        cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+        kappa = cross / np.maximum(sp, 1e-300) ** 3
         s = self.site
         dev = s.material_left(p, float(x[0]), float(x[3]), self.eps)
         if s.programmed:
             clear = np.min([points_distance(e, p) for e in s.programmed], axis=0)
         else:
             clear = np.full(len(p), np.inf)
-        return {"kappa": kappa, "speed": sp, "dev": dev, "clear": clear, "points": p}
+        out = {"kappa": kappa, "speed": sp, "dev": dev, "clear": clear, "points": p}
+        if self.limits is not None:
+            d3 = (_third_basis(np.linspace(0.0, 1.0, 400)) if dense else self.H3) @ C
+            spm = np.maximum(sp, 1e-300)
+            # dκ/ds = (x′y‴ − y′x‴)/|P′|⁴ − 3 (x′y″ − y′x″)(P′·P″)/|P′|⁶
+            dk = (d1[:, 0] * d3[:, 1] - d1[:, 1] * d3[:, 0]) / spm**4 - 3.0 * cross * np.einsum(
+                "ij,ij->i", d1, d2
+            ) / spm**6
+            out["dkappa"] = dk
+        return out
+
+    def objective_samples(self, ev: dict[str, np.ndarray]) -> np.ndarray:
+        """Per-sample cost, 1/mm: |κ| (the speed through a sample is ≤ sqrt(amax/|κ|)); with
+        ``limits = (amax, jmax)`` the larger of |κ| and ``amax·(|dκ/ds|/jmax)^(2/3)`` — the
+        curvature whose acceleration limit gives the same speed as the jerk of following the
+        curvature change, ``v³·|dκ/ds| ≤ jmax``."""
+        k = np.abs(ev["kappa"])
+        if self.limits is None:
+            return k
+        amax, jmax = self.limits
+        return np.maximum(k, amax * (np.abs(ev["dkappa"]) / jmax) ** (2.0 / 3.0))
 
     def _constraints(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(|κ| samples, g ≤ 0 rows) at ``x``: deviation − ε, R − clearance."""
+        """(cost samples, g ≤ 0 rows) at ``x``: :meth:`objective_samples`; deviation − ε, R − clearance."""
         ev = self.evaluate(x)
         s = self.site
         # the end samples lie on the neighbours by construction (clearance exactly R). At an outside
@@ -277,6 +312,7 @@ class CornerBlendProblem:
         # |κ|·h²/8 at most (h: sample spacing). At an inside corner the transition turns away from
         # the contour and the clearance grows monotonically from the ends.
         kappa = np.abs(ev["kappa"])
+        cost = self.objective_samples(ev)
         if s.inside:
             margin = 0.0
         else:
@@ -284,7 +320,7 @@ class CornerBlendProblem:
             sag = np.maximum(kappa[1:], kappa[:-1]) * h * h / 8.0
             margin = np.maximum(sag[1:], sag[:-1])
         g = np.concatenate((ev["dev"] - (1.0 - 1e-3) * self.eps, s.radius + margin - ev["clear"][1:-1] - CLEAR_TOL_MM))
-        return kappa, g
+        return cost, g
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         s = self.site
@@ -419,7 +455,7 @@ class CornerBlendProblem:
         )
         return Solution(
             SolveStatus.OPTIMAL if ok else SolveStatus.INFEASIBLE,
-            geom.max_curvature,
+            float(self.objective_samples(ev).max()),
             done,
             time.perf_counter() - t0,
             geom,

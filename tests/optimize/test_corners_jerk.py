@@ -1,0 +1,95 @@
+"""Corner transitions for jerk-limited timing: the curvature-rate objective (issue 6, part 2)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from gouge import gouges  # noqa: E402
+
+from trcopt.cli import main  # noqa: E402
+from trcopt.config import DEFAULT_MACHINE, AxisLimits, Machine  # noqa: E402
+from trcopt.errors import ConfigError  # noqa: E402
+from trcopt.optimize.corners import blend_corners, find_corner_sites  # noqa: E402
+from trcopt.optimize.corners_qp import CornerBlendProblem  # noqa: E402
+from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
+from trcopt.timing.jerk import jerk_limited  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+PROG = ROOT / "problems" / "corners" / "corner_30deg.mpf"
+EPS = 0.1
+
+
+@pytest.fixture(scope="module")
+def corner():
+    r = plan_file(PROG, PlanOptions(timing=False))
+    assert r.ok
+    return r
+
+
+def _x_of(geom) -> np.ndarray:  # type: ignore[no-untyped-def]
+    """Decision vector (sa, α, β, sb, γ, δ) of a solved transition (the neighbours are lines)."""
+    d0, a0, a1, d1 = (np.array(v) for v in (geom.d0, geom.a0, geom.a1, geom.d1))
+    ta, tb = d0 / np.linalg.norm(d0), d1 / np.linalg.norm(d1)
+    return np.array([geom.sa, np.linalg.norm(d0), a0 @ ta, geom.sb, np.linalg.norm(d1), a1 @ tb])
+
+
+def test_jerk_objective_trades_peak_curvature_for_a_slower_curvature_change(corner):
+    ((_, site),) = find_corner_sites(corner.toolpath, corner.programmed, tolerance_mm=EPS)
+    limits = (2000.0, 50000.0)
+    curv = CornerBlendProblem(site, EPS).solve()
+    jerk_p = CornerBlendProblem(site, EPS, limits=limits)
+    jerk = jerk_p.solve()
+    assert curv.ok and jerk.ok
+    for sol in (curv, jerk):
+        assert sol.geometry.max_deviation <= EPS and sol.geometry.min_clearance >= site.radius - 2e-9
+    # each solution is the better one by its own measure
+    x_c, x_j = _x_of(curv.geometry), _x_of(jerk.geometry)
+    assert np.allclose(CornerBlendProblem(site, EPS).coefficients(x_c)[2], curv.geometry.a0)
+    ev_c, ev_j = jerk_p.evaluate(x_c, dense=True), jerk_p.evaluate(x_j, dense=True)
+    cost_c, cost_j = jerk_p.objective_samples(ev_c).max(), jerk_p.objective_samples(ev_j).max()
+    assert cost_j < cost_c
+    assert jerk.cost == pytest.approx(cost_j, rel=1e-9)
+    assert curv.geometry.max_curvature <= jerk.geometry.max_curvature
+    # the cost is the larger of |κ| and amax·(|dκ/ds|/jmax)^(2/3); here the curvature rate dominates
+    k, dk = np.abs(ev_j["kappa"]), np.abs(ev_j["dkappa"])
+    assert np.allclose(jerk_p.objective_samples(ev_j), np.maximum(k, 2000.0 * (dk / 50000.0) ** (2 / 3)))
+    assert (2000.0 * (dk / 50000.0) ** (2 / 3)).max() > k.max()
+
+
+def test_jerk_objective_is_faster_under_jerk_limits(corner):
+    m = DEFAULT_MACHINE
+    curv = blend_corners(corner.toolpath, corner.programmed, tolerance_mm=EPS, select=False)
+    jerk = blend_corners(corner.toolpath, corner.programmed, tolerance_mm=EPS, select=False, objective="jerk")
+    arc = blend_corners(corner.toolpath, corner.programmed, tolerance_mm=EPS, mode="arc")
+    times = {}
+    for name, res in (("curvature", curv), ("jerk", jerk), ("arc", arc)):
+        assert res.blended == 1 and res.max_deviation_mm <= EPS
+        assert not gouges(corner.programmed, res.segments)
+        traj = jerk_limited(res.segments, m)
+        rep = traj.check_limits(dt=1e-4)
+        assert rep.ok and max(rep.jerk_ratio) <= 1.01, (name, str(rep))
+        times[name] = traj.duration
+    assert times["jerk"] < times["curvature"] and times["jerk"] < times["arc"]
+
+
+def test_objective_is_validated_and_needs_jerk_limits(corner):
+    with pytest.raises(ValueError, match="objective"):
+        blend_corners(corner.toolpath, corner.programmed, tolerance_mm=EPS, objective="speed")
+    no_jerk = Machine(axes=(("X", AxisLimits(250, 2000)), ("Y", AxisLimits(250, 2000)), ("Z", AxisLimits(100, 1000))))
+    with pytest.raises(ConfigError, match="jmax_mm_s3"):
+        blend_corners(corner.toolpath, corner.programmed, tolerance_mm=EPS, objective="jerk", machine=no_jerk)
+
+
+def test_plan_with_corners_and_jerk_uses_the_jerk_objective(tmp_path):
+    out = tmp_path / "p.json"
+    rc = main(["plan", str(PROG), "--corners", "optimal", "--tolerance", str(EPS), "--jerk", "--json", str(out)])
+    assert rc == 0
+    plan = json.loads(out.read_text())
+    assert plan["corners"]["objective"] == "jerk" and plan["corners"]["quintic"] == 1
+    assert plan["timing"]["jerk_limited"] is True and plan["timing"]["limits_ok"] is True
