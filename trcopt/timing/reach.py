@@ -87,7 +87,7 @@ def pass_coefficients(
     n = alpha.shape[0]
     up = beta > tiny
     lo = beta < -tiny
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # masked by np.where
         cu = np.where(up, gamma / beta, np.inf)
         mu = np.where(up, -alpha / beta, 0.0)
         cl = np.where(lo, gamma / beta, -np.inf)
