@@ -40,7 +40,7 @@ def test_one_inside_corner_site_with_inspectable_qp(corner):
     assert site.inside and math.degrees(site.turn) == pytest.approx(30.0, abs=1e-6)
     problem = CornerBlendProblem(site, EPS)
     P, q, A, lo, hi = problem.qp_matrices()
-    n = CornerBlendProblem.N_VAR + 1
+    n = CornerBlendProblem.N_VAR + 1  # decision step and the epigraph variable t
     assert P.shape == (n, n) and q.shape == (n,) and A.shape[1] == n
     assert A.shape[0] == lo.shape[0] == hi.shape[0] and np.all(lo <= hi)
 

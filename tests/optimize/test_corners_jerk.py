@@ -93,3 +93,42 @@ def test_plan_with_corners_and_jerk_uses_the_jerk_objective(tmp_path):
     plan = json.loads(out.read_text())
     assert plan["corners"]["objective"] == "jerk" and plan["corners"]["quintic"] == 1
     assert plan["timing"]["jerk_limited"] is True and plan["timing"]["limits_ok"] is True
+
+
+BOSS_CORNER = """$TC_DP1[1,1]=120 $TC_DP6[1,1]=3
+N10 G17 G90 T1 D1 G0 X0 Y-30 Z0
+N20 G1 G42 X0 Y-10 F6000
+N30 X40
+N40 Y30
+N50 G40 X60 Y30
+N60 M30
+"""
+
+
+def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_objective():
+    from trcopt.geometry import Arc, Poly
+    from trcopt.path import Role
+    from trcopt.pipeline import plan
+
+    r = plan(BOSS_CORNER, options=PlanOptions(timing=False))
+    assert r.ok
+    circles = [s for s in r.toolpath if s.role is Role.CORNER and isinstance(s.geometry, Arc)]
+    assert len(circles) == 1  # the outside corner at X40 Y-10 gets a G450 circle of radius R
+    # acceleration-limited (curvature objective): the circle is already the least-curvature transition
+    plain = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False)
+    assert plain.corners == [] and plain.segments == r.toolpath
+    res = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False, objective="jerk")
+    (rec,) = res.corners
+    assert rec.blended and rec.transition == "quintic", rec.reason
+    corner = [s for s in res.segments if s.role is Role.CORNER]
+    assert len(corner) == 1 and isinstance(corner[0].geometry, Poly)
+    # the transition leaves the circle at its tangent points and stays outside it: the vertex keeps
+    # exactly R (no gouge, nothing left there) and the cut part is unchanged
+    pts = np.array([corner[0].geometry.point(x)[:2] for x in np.linspace(0.0, corner[0].geometry.length, 400)])
+    d = np.hypot(pts[:, 0] - 40.0, pts[:, 1] + 10.0)
+    assert d.min() >= 3.0 - 1e-8
+    assert res.max_deviation_mm <= 0.01 and not gouges(r.programmed, res.segments)
+    # no curvature jump of 1/R at the ends any more: faster under jerk limits
+    exact, smooth = jerk_limited(r.toolpath, DEFAULT_MACHINE), jerk_limited(res.segments, DEFAULT_MACHINE)
+    assert smooth.check_limits(dt=1e-4).ok
+    assert smooth.duration < 0.97 * exact.duration

@@ -210,16 +210,42 @@ def _boundary_probes(
     return P[keep], D[keep]
 
 
+def _circle_indices(toolpath: Sequence[Segment], joints: set[int]) -> list[int]:
+    """Indices k of transition circles (G450, role ``corner``) at ``k + 1`` between two lines
+    ``k`` and ``k + 2`` that are tangent to it and not themselves tangent discontinuities."""
+    out = []
+    for k in range(len(toolpath) - 2):
+        s1, arc, s2 = toolpath[k], toolpath[k + 1], toolpath[k + 2]
+        if not (_eligible(s1) and _eligible(arc) and _eligible(s2)):
+            continue
+        if arc.role is not Role.CORNER or not isinstance(arc.geometry, Arc):
+            continue
+        if not (isinstance(s1.geometry, Line) and isinstance(s2.geometry, Line)):
+            continue
+        if k in joints or (k + 1) in joints or s1.plane != s2.plane or abs(s1.radius - s2.radius) > 1e-12:
+            continue
+        if max(math.dist(s1.geometry.end, arc.geometry.start), math.dist(arc.geometry.end, s2.geometry.start)) > 1e-9:
+            continue
+        if TANGENT_TOL_RAD < abs(_turn(s1.geometry, s2.geometry)) <= MAX_TURN_RAD:
+            out.append(k)
+    return out
+
+
 def find_corner_sites(
     toolpath: Sequence[Segment],
     programmed: Sequence[Segment],
     *,
     probe_step: float | None = None,
     tolerance_mm: float = 0.01,
+    transition_circles: bool = False,
 ) -> list[tuple[int, CornerSite]]:
-    """The tangent discontinuities that may be blended and their constraint data."""
+    """The tangent discontinuities that may be blended and their constraint data; with
+    ``transition_circles`` also the G450 transition circles between two lines (curvature jumps of
+    1/R at both ends, what limits a jerk-limited feed), as sites whose ``a``/``b`` are the lines
+    extended to their intersection (:attr:`CornerSite.min_cut`)."""
     joints = _joint_indices(toolpath)
     at = set(joints)
+    circles = _circle_indices(toolpath, at) if transition_circles else []
     # the part contour (as the verification sees it): approach/retraction blocks are not part of it
     contour = [
         p
@@ -227,44 +253,81 @@ def find_corner_sites(
         if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
     sites = []
-    for k in joints:
-        sa_seg, sb_seg = toolpath[k], toolpath[k + 1]
-        a, b = sa_seg.geometry, sb_seg.geometry
-        assert isinstance(a, Line | Arc) and isinstance(b, Line | Arc)
-        avail_a = a.plane_length * (0.5 if (k - 1) in at else 0.98)
-        avail_b = b.plane_length * (0.5 if (k + 1) in at else 0.98)
-        R = sa_seg.radius
-        sign = _material_sign(sa_seg)
+    for k in sorted(joints + circles):
+        circle = k in circles and k not in at
+        first, last = k, (k + 2 if circle else k + 1)
+        ga, gb = toolpath[first].geometry, toolpath[last].geometry
+        assert isinstance(ga, Line | Arc) and isinstance(gb, Line | Arc)
+        # a segment shared with a neighbouring site gives each site half of its length
+        share_a = 0.5 if (first - 1) in at or first in {c + 2 for c in circles} else 0.98
+        share_b = 0.5 if last in at or last in circles else 0.98
+        min_cut = 0.0
+        if circle:
+            assert isinstance(ga, Line) and isinstance(gb, Line)
+            X = _line_intersection(ga, gb)
+            if X is None:
+                continue
+            min_cut = math.dist(X, ga.end[:2])
+            a: Line | Arc = Line(ga.start, (X[0], X[1], ga.end[2]))
+            b: Line | Arc = Line((X[0], X[1], gb.start[2]), gb.end)
+            # the line leaves the circle by d²/(2R) at d beyond its tangent point: a transition that
+            # leaves at most ε starts within a few sqrt(2Rε) of it
+            r_c = min_cut / math.tan(0.5 * abs(_turn(ga, gb)))
+            near = 4.0 * math.sqrt(2.0 * r_c * tolerance_mm)
+            avail_a = min_cut + ga.plane_length * share_a
+            avail_b = min_cut + gb.plane_length * share_b
+        else:
+            a, b = ga, gb
+            avail_a, avail_b = a.plane_length * share_a, b.plane_length * share_b
+        seg0 = toolpath[first]
+        R = seg0.radius
+        sign = _material_sign(seg0)
         J = np.array(a.point2(1.0))
         reach = max(avail_a, avail_b) + 3.0 * R
         prog = tuple(
             p.geometry
             for p in contour
-            if p.plane == sa_seg.plane and points_distance(p.geometry, J[None, :])[0] <= reach + R  # type: ignore[arg-type]
+            if p.plane == seg0.plane and points_distance(p.geometry, J[None, :])[0] <= reach + R  # type: ignore[arg-type]
         )
-        # exact neighbourhood: previous, a, b, next (when joined)
+        # exact neighbourhood: previous, the replaced elements, next (when joined)
         ex: list[Line | Arc] = []
-        if k >= 1 and _eligible(toolpath[k - 1]) and math.dist(toolpath[k - 1].geometry.end, a.start) < 1e-9:
-            ex.append(toolpath[k - 1].geometry)  # type: ignore[arg-type]
-        ex += [a, b]
+        prev = toolpath[first - 1] if first >= 1 else None
+        if prev is not None and _eligible(prev) and math.dist(prev.geometry.end, ga.start) < 1e-9:
+            ex.append(toolpath[first - 1].geometry)  # type: ignore[arg-type]
+        ex += [toolpath[i].geometry for i in range(first, last + 1)]  # type: ignore[misc]
         if (
-            k + 2 < len(toolpath)
-            and _eligible(toolpath[k + 2])
-            and math.dist(b.end, toolpath[k + 2].geometry.start) < 1e-9
+            last + 1 < len(toolpath)
+            and _eligible(toolpath[last + 1])
+            and math.dist(gb.end, toolpath[last + 1].geometry.start) < 1e-9
         ):
-            ex.append(toolpath[k + 2].geometry)  # type: ignore[arg-type]
+            ex.append(toolpath[last + 1].geometry)  # type: ignore[arg-type]
         step = probe_step or max(min(0.5 * tolerance_mm, (max(avail_a, avail_b) + R) / 300.0), 1e-4)
-        progs = [p for p in prog]
         # inside corners: the transition cannot be much longer than the same-ε circle's
         c = math.cos(0.5 * abs(_turn(a, b)))
         t_arc = tolerance_mm * c / max(1.0 - c, 1e-12) * math.tan(0.5 * abs(_turn(a, b)))
         span = max(avail_a, avail_b)
         if _turn(a, b) * sign < 0:
             span = min(span, 4.0 * t_arc + 2.0 * R)
-        probes, dirs = _boundary_probes(ex, progs, R, sign, step, near=J, reach=span + 1.05 * R)
-        context = tuple(e for e in ex if e is not a and e is not b)
-        sites.append((k, CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, dirs, a.end[2], context)))
+        if circle:
+            span = min(span, min_cut + near)
+        probes, dirs = _boundary_probes(ex, list(prog), R, sign, step, near=J, reach=span + 1.05 * R)
+        replaced = {id(toolpath[i].geometry) for i in range(first, last + 1)}
+        context = tuple(e for e in ex if id(e) not in replaced)
+        site = CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, dirs, ga.end[2], context, min_cut)
+        sites.append((k, site))
     return sites
+
+
+def _line_intersection(a: Line, b: Line) -> tuple[float, float] | None:
+    """Intersection of the carriers of two plane lines (None when parallel)."""
+    ta, tb = np.array(a.direction2()), np.array(b.direction2())
+    den = ta[0] * tb[1] - ta[1] * tb[0]
+    if abs(den) < 1e-12:
+        return None
+    pa, pb = np.array(a.end[:2]), np.array(b.start[:2])
+    t = ((pb - pa)[0] * tb[1] - (pb - pa)[1] * tb[0]) / den
+    X = pa + t * ta
+    return float(X[0]), float(X[1])
 
 
 # ------------------------------------------------------------------------------------- blends
@@ -364,7 +427,9 @@ def blend_corners(
     segs = list(toolpath)
     if mode is CornerMode.EXACT or tolerance_mm <= 0:
         return CornerResult(segs, [], 0.0, mode)
-    sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm)
+    # under jerk limits the G450 transition circles are curvature jumps worth replacing as well
+    circles = mode is CornerMode.OPTIMAL and objective == "jerk"
+    sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm, transition_circles=circles)
     # a small margin for the difference between the per-corner and the global sampling
     eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
     result = CornerResult(segs, [], 0.0, mode)
@@ -410,6 +475,8 @@ def _fastest(
     a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
     choice = {}
     for k, site in sites:
+        if site.min_cut > 0.0:  # transition circles: G2 or the circle, nothing to choose here
+            continue
         sol = solved.get((k, eps_of[k]))
         built = _arc_blend(site, eps_of[k])
         if sol is None or not sol.ok or built is None:
@@ -505,6 +572,12 @@ def _assemble(
                 label="corner-quintic",
             )
             kmax, kind, why = gm.max_curvature, "quintic", ""
+        elif site.min_cut > 0.0:  # a transition circle stays unless a G2 transition replaces it
+            why = "transition circle kept"
+            if sol is not None and not sol.ok:
+                why = f"G2 transition infeasible ({sol.message}); transition circle kept"
+            records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=why))
+            continue
         else:
             built = _arc_blend(site, eps)
             if built is None:
@@ -520,8 +593,15 @@ def _assemble(
                 why = f"G2 transition infeasible ({sol.message}): circular blend"
             elif sol is not None:
                 why = "circular blend is faster here"
-        lam1[k] = min(lam1[k], 1.0 - sa / a.plane_length)
-        lam0[k + 1] = max(lam0[k + 1], sb / b.plane_length)
+        if site.min_cut > 0.0:
+            # the circle at k + 1 is replaced whole; the lines lose what lies beyond the circle
+            b = segs[k + 2].geometry
+            lam1[k] = min(lam1[k], 1.0 - (sa - site.min_cut) / a.plane_length)
+            lam0[k + 1], lam1[k + 1] = 1.0, 0.0
+            lam0[k + 2] = max(lam0[k + 2], (sb - site.min_cut) / b.plane_length)
+        else:
+            lam1[k] = min(lam1[k], 1.0 - sa / a.plane_length)
+            lam0[k + 1] = max(lam0[k + 1], sb / b.plane_length)
         inserts[k] = replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)
         records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol, why, kind))
     out: list[Segment] = []

@@ -46,6 +46,7 @@ __all__ = [
 
 Element = Line | Arc
 CLEAR_TOL_MM = 1e-9
+ELASTIC_WEIGHT = 100.0  # price of the elastic slack (in units of the scaled objective)
 
 
 def quintic_basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -106,6 +107,11 @@ class CornerSite:
     context:
         Exact tool-centre elements around the corner that stay in the new path (n_c×… samples
         used to cover the probes), as sample points (m×2, mm).
+    min_cut:
+        Smallest ``sa`` and ``sb`` (mm). Non-zero when the corner is a transition circle (G450)
+        between two lines: ``a`` and ``b`` are then the lines extended to their intersection, the
+        circle is replaced as a whole, and the transition must start and end on the real lines,
+        at least ``min_cut`` (the circle's tangent length) from the intersection.
     """
 
     a: Element
@@ -119,6 +125,7 @@ class CornerSite:
     probe_dirs: np.ndarray
     w: float = 0.0
     context: tuple[Element, ...] = ()
+    min_cut: float = 0.0
 
     def material_left(self, curve: np.ndarray, sa: float, sb: float, eps: float) -> np.ndarray:
         """Material left (mm) at every probe for a transition sampled by ``curve`` (k×2) that
@@ -252,6 +259,13 @@ class CornerBlendProblem:
         tl = min(r * math.tan(0.5 * phi), 0.9 * s.avail_a, 0.9 * s.avail_b)
         tl = max(tl, 1e-3 * min(s.avail_a, s.avail_b))
         chord = 2.0 * tl * math.cos(0.5 * phi)
+        if s.min_cut > 0.0:
+            # replacing a transition circle of radius r = min_cut/tan(φ/2): start where the line is
+            # still within about ε of the circle, derivative magnitude ≈ the circle's length
+            r_c = s.min_cut / math.tan(0.5 * phi)
+            room = min(s.avail_a, s.avail_b) - s.min_cut
+            tl = s.min_cut + min(0.5 * math.sqrt(2.0 * r_c * self.eps), 0.9 * room)
+            chord = r_c * phi + 2.0 * (tl - s.min_cut)
         return np.array([tl, chord, 0.0, tl, chord, 0.0])
 
     def coefficients(self, x: np.ndarray) -> np.ndarray:
@@ -324,7 +338,8 @@ class CornerBlendProblem:
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         s = self.site
-        lo = np.array([1e-6, 1e-6, -np.inf, 1e-6, 1e-6, -np.inf])
+        cut = max(1e-6, s.min_cut * (1.0 + 1e-9))
+        lo = np.array([cut, 1e-6, -np.inf, cut, 1e-6, -np.inf])
         hi = np.array([s.avail_a, np.inf, np.inf, s.avail_b, np.inf, np.inf])
         return lo, hi
 
@@ -349,10 +364,11 @@ class CornerBlendProblem:
         ``y = Δx/L`` with ``L = sa + sb`` (:meth:`step_scale`):
 
         min t + ½·ρ·|y|²  s.t.  (|κ_k| + ∇|κ_k|·L·y)/κ_ref ≤ t,  (g + ∇g·L·y)/ε ≤ 0,  bounds,
-        |y| ≤ trust/L. Curvature rows are scaled by the current peak curvature and deviation/
-        clearance rows by ε, so every row is of order one. Rows that cannot become active inside
-        the trust box are left out (exactly the same QP solution; most probes are swept and have a
-        zero gradient).
+        |y| ≤ trust/L; at a transition-circle site (``min_cut > 0``) with an elastic slack σ ≥ 0 on
+        the g rows priced W·σ (W = ``ELASTIC_WEIGHT``). Curvature rows are scaled by the current
+        peak curvature and deviation/clearance rows by ε, so every row is of order one. Rows that
+        cannot become active inside the trust box are left out (exactly the same QP solution; most
+        probes are swept and have a zero gradient).
         """
         import scipy.sparse as sp
 
@@ -366,18 +382,29 @@ class CornerBlendProblem:
         reach = np.abs(Jg) @ np.minimum(trust, np.maximum(hi_b - x, x - lo_b))
         live = g0 + reach > 0.0
         Jg, g0 = Jg[live], g0[live]
-        rows_k = np.hstack((Jk * (L / kref), -np.ones((k0.shape[0], 1))))
-        rows_g = np.hstack((Jg * (L / self.eps), np.zeros((g0.shape[0], 1))))
-        rows_b = np.hstack((np.eye(n), np.zeros((n, 1))))
-        A = np.vstack((rows_k, rows_g, rows_b))
+        # columns: y (n), t and, for a transition-circle site, σ ≥ 0: an elastic slack on the
+        # deviation/clearance rows priced at ELASTIC_WEIGHT, so that a step exists from its
+        # (infeasible) start — a circle cannot be shrunk towards the joint to find a feasible one
+        m = 1 if self.site.min_cut > 0.0 else 0
+        rows_k = np.hstack((Jk * (L / kref), -np.ones((k0.shape[0], 1)), np.zeros((k0.shape[0], m))))
+        rows_g = np.hstack((Jg * (L / self.eps), np.zeros((g0.shape[0], 1)), -np.ones((g0.shape[0], m))))
+        rows_b = np.hstack((np.eye(n), np.zeros((n, 1 + m))))
+        row_s = np.zeros((m, n + 1 + m))
+        row_s[:, -1] = 1.0
+        A = np.vstack((rows_k, rows_g, rows_b, row_s))
         lower = np.concatenate(
-            (np.full(k0.shape[0], -np.inf), np.full(g0.shape[0], -np.inf), np.maximum(lo_b - x, -trust) / L)
+            (
+                np.full(k0.shape[0], -np.inf),
+                np.full(g0.shape[0], -np.inf),
+                np.maximum(lo_b - x, -trust) / L,
+                np.zeros(m),
+            )
         )
-        upper = np.concatenate((-k0 / kref, -g0 / self.eps, np.minimum(hi_b - x, trust) / L))
+        upper = np.concatenate((-k0 / kref, -g0 / self.eps, np.minimum(hi_b - x, trust) / L, np.full(m, np.inf)))
         lower = np.minimum(lower, upper)
         rho = 3e-2
-        P = sp.diags(np.append(np.full(n, rho), 0.0)).tocsc()
-        q = np.append(np.zeros(n), 1.0)
+        P = sp.diags(np.concatenate((np.full(n, rho), np.zeros(1 + m)))).tocsc()
+        q = np.concatenate((np.zeros(n), [1.0], np.full(m, ELASTIC_WEIGHT)))
         return P, q, sp.csc_matrix(A), lower, upper
 
     @staticmethod
@@ -398,7 +425,7 @@ class CornerBlendProblem:
         t0 = time.perf_counter()
         x = self.x0.copy()
         f, v = self._merit(x)
-        if v > 0.0:
+        if v > 0.0 and self.site.min_cut == 0.0:
             x = self._restore(x)
             f, v = self._merit(x)
         best = (f, x.copy()) if self._feasible(x, dense=True) else (math.inf, x.copy())
@@ -486,5 +513,6 @@ class CornerBlendProblem:
             _, v = self._merit(x)
             if v <= 0.0:
                 return x
-            x = x * np.array([0.7, 0.7, 0.49, 0.7, 0.7, 0.49])
+            cut = np.array([self.site.min_cut, 0.0, 0.0, self.site.min_cut, 0.0, 0.0])
+            x = cut + (x - cut) * np.array([0.7, 0.7, 0.49, 0.7, 0.7, 0.49])
         return x
