@@ -316,12 +316,54 @@ def compare_table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+PROGRAMS = ("pocket_square", "star_g451", "gear_12")
+
+
+def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, workers: int = 2) -> str:
+    """Part programs of ``problems/corners`` planned through the pipeline and timed jerk-limited:
+    the controller's exact path, same-ε circular blends, and ``--corners optimal --jerk`` (G2
+    transitions with the jerk objective, G450 circles between lines replaced as well)."""
+    from trcopt.pipeline import PlanOptions, plan_file
+
+    root = Path(__file__).resolve().parents[1] / "problems" / "corners"
+    out = [
+        f"| program | variant (ε = {eps} mm) | sites blended | T acceleration-limited s | T jerk-limited s "
+        "| vs exact (jerk) | jerk ratio | valid | wall s |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name in names:
+        ref = None
+        variants = (("exact path", "exact"), ("circular blends", "arc"), ("optimal, jerk objective", "optimal"))
+        for label, corners in variants:
+            t0 = time.perf_counter()
+            res = plan_file(
+                root / f"{name}.mpf",
+                PlanOptions(corners=corners, tolerance_mm=eps, jerk=True, workers=workers, verify=False),
+            )
+            wall = time.perf_counter() - t0
+            traj = res.timing
+            rep = traj.check_limits(dt=2e-4)
+            ref = ref or traj.duration
+            info = res.extra.get("corners") or {}
+            blended = f"{info.get('blended', 0)}" if info else "0"
+            out.append(
+                f"| {name} | {label} | {blended} | {traj.base.duration:.4f} | {traj.duration:.4f} | "
+                f"{traj.duration / ref:.3f} | {max(rep.jerk_ratio):.4f} | {'yes' if rep.ok else 'NO'} | {wall:.1f} |"
+            )
+            print(out[-1], flush=True)
+    return "\n".join(out)
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--big", action="store_true", help="add B9 with 1 000 segments (slow)")
     ap.add_argument("--no-families", action="store_true")
+    ap.add_argument("--programs", action="store_true", help="only the part programs of problems/corners")
     ap.add_argument("--workers", type=int, default=2, help="processes for B9 with 1 000 segments")
     args = ap.parse_args(argv)
+    if args.programs:
+        print(compare_programs(workers=args.workers))
+        return
     if not args.no_families:
         rows = run_families(args.big, args.workers)
         print(families_table(rows))
