@@ -26,6 +26,7 @@ from ..config import DEFAULT_MACHINE, Machine
 from ..errors import ConfigError
 from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
+from .corners_chain import ChainSite, ChainSolution, find_chains, solve_chain
 from .corners_qp import CornerBlendProblem, CornerGeometry, CornerSite, CornerSolution, material_left, quintic_basis
 from .model import points_distance
 from .verify import part_contour
@@ -74,7 +75,7 @@ class CornerRecord:
     span_mm: float | None = None  # sa + sb
     solution: CornerSolution | None = None
     reason: str = ""
-    transition: str = ""  # "quintic" (G2) or "arc" (G1 circular blend); "" when not blended
+    transition: str = ""  # "quintic" (G2), "spline" (G2 across a run of corners) or "arc" (G1); "" when not blended
 
 
 @dataclass
@@ -432,23 +433,59 @@ def blend_corners(
     sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm, transition_circles=circles)
     # a small margin for the difference between the per-corner and the global sampling
     eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
+    # runs of small-deflection corners (CAM polylines): one G2 spline across each run
+    chains = _solve_chains(segs, programmed, sites, tolerance_mm) if mode is CornerMode.OPTIMAL else []
+    in_chain = {k for c, _, _ in chains for k in c.joints}
+    single = [(k, site) for k, site in sites if k not in in_chain]
     result = CornerResult(segs, [], 0.0, mode)
     solved: dict[tuple[int, float], CornerSolution] = {}
     for _round in range(4):
         if mode is CornerMode.OPTIMAL:
-            jobs = [(k, site, eps_of[k], limits) for k, site in sites if (k, eps_of[k]) not in solved]
+            jobs = [(k, site, eps_of[k], limits) for k, site in single if (k, eps_of[k]) not in solved]
             _solve_sites(jobs, solved, workers)
-        result = _assemble(segs, sites, eps_of, mode, solved)
+        result = _assemble(segs, single, eps_of, mode, solved, chains=chains)
         dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
         result.max_deviation_mm = dev
         if dev <= tolerance_mm or where is None:
             break
-        # tighten the corner closest to the worst probe and try again
+        # tighten the corner (or the run of corners) closest to the worst probe and try again
         k_bad = min(sites, key=lambda ks: float(np.hypot(*(ks[1].joint - where))))[0]
-        eps_of[k_bad] *= 0.98 * tolerance_mm / max(dev, tolerance_mm)
-    if mode is CornerMode.OPTIMAL and select and result.count("quintic"):
-        result = _fastest(segs, programmed, sites, eps_of, solved, result, tolerance_mm, machine)
+        factor = 0.98 * tolerance_mm / max(dev, tolerance_mm)
+        if k_bad in in_chain:
+            i = next(i for i, c in enumerate(chains) if k_bad in c[0].joints)
+            chain, _, eps_c = chains[i]
+            sol = solve_chain(chain, eps_c * factor)
+            if sol.ok:
+                chains[i] = (chain, sol, eps_c * factor)
+            else:
+                chains.pop(i)
+                in_chain -= set(chain.joints)
+                single = [(k, site) for k, site in sites if k not in in_chain]
+        else:
+            eps_of[k_bad] *= factor
+    if mode is CornerMode.OPTIMAL and select and (result.count("quintic") or result.count("spline")):
+        result = _fastest(segs, programmed, single, eps_of, solved, result, tolerance_mm, machine, chains, sites)
     return result
+
+
+def _solve_chains(
+    segs: list[Segment], programmed: Sequence[Segment], sites: list[tuple[int, CornerSite]], tolerance_mm: float
+) -> list[tuple[ChainSite, ChainSolution, float]]:
+    """The runs of small-deflection corners and their G2 splines (feasible ones only)."""
+    plain = [k for k, site in sites if site.min_cut == 0.0]
+    owned = {k for k, _ in sites} | {k + 1 for k, site in sites if site.min_cut > 0.0}
+    contour = [
+        p.geometry
+        for p in part_contour(programmed, segs)
+        if isinstance(p.geometry, Line | Arc) and not p.is_rapid
+    ]
+    eps = (1.0 - TARGET_MARGIN) * tolerance_mm
+    out = []
+    for chain in find_chains(segs, plain, owned, contour):  # type: ignore[arg-type]
+        sol = solve_chain(chain, eps)
+        if sol.ok:
+            out.append((chain, sol, eps))
+    return out
 
 
 def _fastest(
@@ -460,11 +497,14 @@ def _fastest(
     optimal: CornerResult,
     tolerance_mm: float,
     machine: Machine | None,
+    chains: list[tuple[ChainSite, ChainSolution, float]] | None = None,
+    every: list[tuple[int, CornerSite]] | None = None,
 ) -> CornerResult:
-    """The fastest of: G2 transitions everywhere, same-ε circular blends everywhere, and a per-corner
-    choice by a local time estimate — timed by the timing stage, never slower than the circular
-    blends. The G2 quintics need zero curvature where they meet a line, so between short chords
-    (CAM polylines) a circular blend of the same ε can carry more speed under acceleration limits."""
+    """The fastest of: G2 transitions everywhere (``chains``: splines across runs of CAM chords),
+    same-ε circular blends everywhere (``every`` site), and a per-corner choice by a local time
+    estimate — timed by the timing stage, never slower than the circular blends. A per-corner G2
+    quintic needs zero curvature where it meets a line, so between short chords a circular blend of
+    the same ε can carry more speed under acceleration limits."""
     from ..timing import time_parameterize
 
     m = machine or DEFAULT_MACHINE
@@ -484,7 +524,7 @@ def _fastest(
         feed = m.rapid_mm_s if segs[k].feed_mm_s is None else float(segs[k].feed_mm_s)
         choice[k] = "quintic" if _local_time(sol.geometry, built, feed, a_lat) <= 0.0 else "arc"
     if set(choice.values()) == {"quintic", "arc"}:
-        hybrid = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, choice)
+        hybrid = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, choice, chains)
         hybrid.max_deviation_mm = cut_deviation(programmed, segs, hybrid.segments)[0]
         if hybrid.max_deviation_mm <= tolerance_mm:
             t_h = time_parameterize(hybrid.segments, m).duration
@@ -492,7 +532,8 @@ def _fastest(
                 best, t_best = hybrid, t_h
     if best is arc:
         # keep the G2 solutions in the records: the report says why each corner is circular
-        best = _assemble(segs, sites, eps_of, CornerMode.OPTIMAL, solved, {k: "arc" for k, _ in sites})
+        every = every or sites
+        best = _assemble(segs, every, eps_of, CornerMode.OPTIMAL, solved, {k: "arc" for k, _ in every})
         best.max_deviation_mm = arc.max_deviation_mm
     best.mode = CornerMode.OPTIMAL
     return best
@@ -547,11 +588,28 @@ def _assemble(
     mode: CornerMode,
     solved: dict[tuple[int, float], CornerSolution],
     choice: dict[int, str] | None = None,
+    chains: Sequence[tuple[ChainSite, ChainSolution, float]] = (),
 ) -> CornerResult:
     lam0 = [0.0] * len(segs)
     lam1 = [1.0] * len(segs)
-    inserts: dict[int, Segment] = {}
+    inserts: dict[int, list[Segment]] = {}
     records = []
+    for chain, csol, ceps in chains:
+        # the spline replaces the run: the end elements are trimmed, the chords between dropped,
+        # and each piece keeps the block of the element it follows
+        lam1[chain.first] = min(lam1[chain.first], chain.lam_a)
+        lam0[chain.last] = max(lam0[chain.last], chain.lam_b)
+        for i in range(chain.first + 1, chain.last):
+            lam0[i], lam1[i] = 1.0, 0.0
+        for j, piece in enumerate(csol.pieces):
+            seg = replace(segs[chain.first + j], geometry=piece, role=Role.CORNER, t_start_s=None, t_end_s=None)
+            inserts.setdefault(chain.first + max(j - 1, 0), []).append(seg)
+        for k in chain.joints:
+            turn = math.degrees(_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
+            inside = turn * chain.material_sign < 0
+            records.append(
+                CornerRecord(k, turn, inside, True, ceps, csol.max_curvature, None, None, "", "spline")
+            )
     for k, site in sites:
         eps = eps_of[k]
         turn = math.degrees(site.turn)
@@ -602,7 +660,7 @@ def _assemble(
         else:
             lam1[k] = min(lam1[k], 1.0 - sa / a.plane_length)
             lam0[k + 1] = max(lam0[k + 1], sb / b.plane_length)
-        inserts[k] = replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)
+        inserts[k] = [replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)]
         records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol, why, kind))
     out: list[Segment] = []
     for i, s in enumerate(segs):
@@ -612,8 +670,8 @@ def _assemble(
                 out.append(s.with_geometry(_trim(g, lam0[i], lam1[i])))  # type: ignore[arg-type]
         else:
             out.append(s)
-        if i in inserts:
-            out.append(inserts[i])
+        out.extend(inserts.get(i, ()))
+    records.sort(key=lambda r: r.index)
     return CornerResult(out, records, 0.0, mode)
 
 

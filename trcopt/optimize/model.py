@@ -32,6 +32,7 @@ __all__ = [
     "reversal_residual",
     "element_distance",
     "points_distance",
+    "points_foot",
     "bbox",
     "ca_cross",
     "ca_point_segment_distance",
@@ -138,18 +139,32 @@ def _in_sweep(el: Arc, ang: np.ndarray, tol: float = 1e-12) -> np.ndarray:
     return (d <= abs(el.sweep) + tol) | (d >= 2.0 * math.pi - tol)
 
 
+def points_foot(el: Line | Arc, pts: np.ndarray) -> np.ndarray:
+    """Nearest point (n×2) of the bounded plane line or arc to each point of ``pts`` (n×2)."""
+    pts = np.asarray(pts, float).reshape(-1, 2)
+    if isinstance(el, Line):
+        a, b = np.array(el.start2, float), np.array(el.end2, float)
+        d = b - a
+        dd = float(d @ d)
+        t = np.zeros(len(pts)) if dd == 0.0 else np.clip((pts - a) @ d / dd, 0.0, 1.0)
+        return a + t[:, None] * d
+    c = np.array(el.center, float)
+    rel = pts - c
+    ang = np.arctan2(rel[:, 1], rel[:, 0])
+    radial = c + el.radius * np.stack((np.cos(ang), np.sin(ang)), axis=1)
+    p0, p1 = np.array(el.point2(0.0)), np.array(el.point2(1.0))
+    end = np.where((np.hypot(*(pts - p0).T) <= np.hypot(*(pts - p1).T))[:, None], p0, p1)
+    return np.where(_in_sweep(el, ang)[:, None], radial, end)
+
+
 def points_distance(el: Element, pts: np.ndarray) -> np.ndarray:
     """Plane distance (mm) from each point of ``pts`` (n×2) to the bounded element."""
     pts = np.asarray(pts, float).reshape(-1, 2)
     if isinstance(el, Line):
         return _segment_points_distance(np.array(el.start2, float), np.array(el.end2, float), pts)
     if isinstance(el, Arc):
-        rel = pts - np.array(el.center, float)
-        ang = np.arctan2(rel[:, 1], rel[:, 0])
-        radial = np.abs(np.hypot(rel[:, 0], rel[:, 1]) - el.radius)
-        p0, p1 = np.array(el.point2(0.0)), np.array(el.point2(1.0))
-        ends = np.minimum(np.hypot(*(pts - p0).T), np.hypot(*(pts - p1).T))
-        return np.where(_in_sweep(el, ang), radial, ends)
+        foot = points_foot(el, pts)
+        return np.hypot(pts[:, 0] - foot[:, 0], pts[:, 1] - foot[:, 1])
     poly = np.array([p[:2] for p in el.points], float)
     best = np.full(len(pts), np.inf)
     for a, b in zip(poly[:-1], poly[1:], strict=True):
