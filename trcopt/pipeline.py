@@ -147,7 +147,8 @@ class PlanResult:
         if corners:
             lines.append(
                 f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended "
-                f"({corners['quintic']} G2 quintic, {corners['arc']} circular), "
+                f"({corners['quintic']} G2 quintic, {corners.get('spline', 0)} on G2 splines, "
+                f"{corners['arc']} circular), "
                 f"max deviation {corners['max_deviation_mm']:.4f} mm"
             )
         if self.verification is not None:
@@ -245,6 +246,7 @@ def plan(
             "objective": objective if opts.corners == "optimal" else None,
             "blended": blended.blended,
             "quintic": blended.count("quintic"),
+            "spline": blended.count("spline"),
             "arc": blended.count("arc"),
             "max_deviation_mm": blended.max_deviation_mm,
         }

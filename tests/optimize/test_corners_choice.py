@@ -1,5 +1,6 @@
 """Optimal corner mode on short-chord polylines: G2 where it is faster, circular blends where the
-G2 quintic is slower or infeasible, never slower than the same-ε circular blends."""
+G2 quintic is slower or infeasible, never slower than the same-ε circular blends (per-corner
+transitions: the runs of small corners as one spline are tested in test_corners_chain.py)."""
 
 from __future__ import annotations
 
@@ -42,7 +43,7 @@ def inside():
 
 
 def test_never_slower_than_circular_blends_and_within_tolerance(inside):
-    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal")
+    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
     arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
     t_opt = time_parameterize(opt.segments).duration
     t_arc = time_parameterize(arc.segments).duration
@@ -57,7 +58,7 @@ def test_never_slower_than_circular_blends_and_within_tolerance(inside):
 
 
 def test_without_selection_g2_transitions_are_kept(inside):
-    g2 = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", select=False)
+    g2 = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", select=False, chains=False)
     assert g2.count("quintic") == 5 and g2.count("arc") == 0
     assert g2.max_deviation_mm <= EPS and not gouges(inside.programmed, g2.segments)
 
@@ -69,14 +70,14 @@ def test_outside_corners_of_small_deflection_keep_r_from_the_programmed_vertex()
     # (curvature 1/R); a G2 transition needs a higher peak (its ends have zero curvature).
     r = plan(_arc_polyline("G42"), options=PlanOptions(timing=False))
     assert r.ok
-    g2 = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
+    g2 = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False, chains=False)
     arc = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="arc")
     assert g2.blended == arc.blended == 5 and g2.count("quintic") == 5
     for q, c in zip(g2.corners, arc.corners, strict=True):
         assert c.max_curvature == pytest.approx(1 / 3.0, rel=1e-5)
         assert 1 / 3.0 < q.max_curvature < 1.2 / 3.0
     assert not gouges(r.programmed, g2.segments) and not gouges(r.programmed, arc.segments)
-    best = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
+    best = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
     t_best, t_arc = time_parameterize(best.segments).duration, time_parameterize(arc.segments).duration
     assert t_best <= t_arc * (1 + 1e-12) < time_parameterize(r.toolpath).duration
 
@@ -87,7 +88,7 @@ def test_per_corner_mix_is_timed_and_kept_only_when_faster(inside, monkeypatch):
     # force a mix (odd corners G2, even circular) through the local estimate
     calls = iter(range(100))
     monkeypatch.setattr(corners_mod, "_local_time", lambda *a: -1.0 if next(calls) % 2 else 1.0)
-    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal")
+    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
     arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
     assert time_parameterize(opt.segments).duration <= time_parameterize(arc.segments).duration * (1 + 1e-12)
     assert opt.max_deviation_mm <= EPS and isinstance(opt.max_deviation_mm, float)

@@ -386,6 +386,7 @@ def blend_corners(
     workers: int = 1,
     select: bool = True,
     objective: str = "curvature",
+    chains: bool = True,
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
 
@@ -414,6 +415,10 @@ def blend_corners(
         acceleration limits); ``"jerk"`` minimises the larger of the curvature and the curvature
         equivalent of the curvature rate under the machine's X/Y jerk limit
         (:meth:`CornerBlendProblem.objective_samples`), for jerk-limited timing.
+    chains:
+        ``optimal`` only: replace each run of ≥ 3 consecutive corners of ≤ 20° joined by lines
+        ≤ 5 mm (CAM polylines) by one G2 spline (:mod:`trcopt.optimize.corners_chain`) instead of
+        per-corner transitions; a run whose spline is infeasible keeps per-corner transitions.
     """
     mode = CornerMode.parse(mode)
     if objective not in ("curvature", "jerk"):
@@ -434,8 +439,9 @@ def blend_corners(
     # a small margin for the difference between the per-corner and the global sampling
     eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
     # runs of small-deflection corners (CAM polylines): one G2 spline across each run
-    chains = _solve_chains(segs, programmed, sites, tolerance_mm) if mode is CornerMode.OPTIMAL else []
-    in_chain = {k for c, _, _ in chains for k in c.joints}
+    runs = chains and mode is CornerMode.OPTIMAL
+    splines = _solve_chains(segs, programmed, sites, tolerance_mm) if runs else []
+    in_chain = {k for c, _, _ in splines for k in c.joints}
     single = [(k, site) for k, site in sites if k not in in_chain]
     result = CornerResult(segs, [], 0.0, mode)
     solved: dict[tuple[int, float], CornerSolution] = {}
@@ -443,7 +449,7 @@ def blend_corners(
         if mode is CornerMode.OPTIMAL:
             jobs = [(k, site, eps_of[k], limits) for k, site in single if (k, eps_of[k]) not in solved]
             _solve_sites(jobs, solved, workers)
-        result = _assemble(segs, single, eps_of, mode, solved, chains=chains)
+        result = _assemble(segs, single, eps_of, mode, solved, chains=splines)
         dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
         result.max_deviation_mm = dev
         if dev <= tolerance_mm or where is None:
@@ -452,19 +458,19 @@ def blend_corners(
         k_bad = min(sites, key=lambda ks: float(np.hypot(*(ks[1].joint - where))))[0]
         factor = 0.98 * tolerance_mm / max(dev, tolerance_mm)
         if k_bad in in_chain:
-            i = next(i for i, c in enumerate(chains) if k_bad in c[0].joints)
-            chain, _, eps_c = chains[i]
+            i = next(i for i, c in enumerate(splines) if k_bad in c[0].joints)
+            chain, _, eps_c = splines[i]
             sol = solve_chain(chain, eps_c * factor)
             if sol.ok:
-                chains[i] = (chain, sol, eps_c * factor)
+                splines[i] = (chain, sol, eps_c * factor)
             else:
-                chains.pop(i)
+                splines.pop(i)
                 in_chain -= set(chain.joints)
                 single = [(k, site) for k, site in sites if k not in in_chain]
         else:
             eps_of[k_bad] *= factor
     if mode is CornerMode.OPTIMAL and select and (result.count("quintic") or result.count("spline")):
-        result = _fastest(segs, programmed, single, eps_of, solved, result, tolerance_mm, machine, chains, sites)
+        result = _fastest(segs, programmed, single, eps_of, solved, result, tolerance_mm, machine, splines, sites)
     return result
 
 
