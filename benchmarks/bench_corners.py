@@ -45,7 +45,7 @@ def main(argv: list[str]) -> None:
     hdr = (
         f"{'contour':20s} {'eps':>6s} {'T_exact':>8s} {'T_arc':>8s} {'T_opt':>8s} {'exact/opt':>9s} "
         f"{'arc/opt':>8s} {'T_jd':>7s} {'jd_acc':>7s} {'dev_arc':>8s} {'dev_opt':>8s} {'goug':>4s} "
-        f"{'corners':>8s} {'q/arc':>7s} {'wall_s':>7s}"
+        f"{'corners':>8s} {'q/spl/arc':>10s} {'wall_s':>7s}"
     )
     print(hdr)
     for f in files:
@@ -64,7 +64,7 @@ def main(argv: list[str]) -> None:
                 f"{f.stem:20s} {eps:6.3f} {t_exact:8.4f} {t_arc:8.4f} {t_opt:8.4f} {t_exact / t_opt:9.3f} "
                 f"{t_arc / t_opt:8.4f} {t_jd:7.4f} {jd_ratio:7.1f} {res_arc.max_deviation_mm:8.5f} "
                 f"{res.max_deviation_mm:8.5f} {g:4d} {res.blended:3d}/{len(res.corners):<4d} "
-                f"{res.count('quintic'):3d}/{res.count('arc'):<3d} {wall:7.2f}",
+                f"{res.count('quintic'):3d}/{res.count('spline'):3d}/{res.count('arc'):<3d} {wall:7.2f}",
                 flush=True,
             )
 
