@@ -5,7 +5,10 @@ contour tolerance ε (mm), :func:`optimize_corners` replaces each such corner by
 quintic (``Poly`` segment, role ``corner``, span of the following block) chosen by
 :class:`~trcopt.optimize.corners_qp.CornerBlendProblem` (SQP of OSQP QPs: least peak curvature,
 material left ≤ ε, no gouge). ``mode="arc"`` builds the baseline instead: the largest circular
-blend (G1) meeting the same cut-part constraints, the usual controller smoothing.
+blend (G1) meeting the same cut-part constraints, the usual controller smoothing. A run of ≥ 3
+consecutive corners of ≤ 20° joined by short lines (CAM polylines) is replaced as a whole by one G2
+smoothing spline (:mod:`~trcopt.optimize.corners_chain`), which may leave ε between the vertices and
+so follows the curve the chords approximate instead of turning at every vertex.
 
 The cut-part deviation is measured on the physics, not on the tool-centre path: the exact path's
 cut boundary is probed along its normals and the new path's swept discs must reach every probe
