@@ -47,6 +47,7 @@ __all__ = [
 MAX_TURN_RAD = math.radians(170.0)
 TANGENT_TOL_RAD = 1e-6
 TARGET_MARGIN = 2e-3
+NEAREST_CENTRES = 128  # centres per probe for the bound of the deviation measurement
 PARALLEL_MIN_CORNERS = 8  # fewer corner problems are solved in-process (a pool costs ~1 s to start)
 
 
@@ -746,7 +747,22 @@ def cut_deviation(
     dmin, _ = tree.query(probes)
     # a probe within R (+ half a sample spacing of chord sag) of a centre sample is swept
     open_ = np.nonzero(dmin > R + step * step / (4.0 * R) + 1e-9)[0]
-    for i in open_:
+    if not len(open_):
+        return best, None
+    # an upper bound per probe from its nearest centres (fewer discs leave at least as much), then
+    # the exact value against every centre within R + 1 mm, in decreasing order of the bound, until
+    # no bound exceeds the largest exact value found
+    k = min(NEAREST_CENTRES, len(centres))
+    bound = np.empty(len(open_))
+    for lo in range(0, len(open_), 2048):
+        sel = open_[lo : lo + 2048]
+        _, nbr = tree.query(probes[sel], k=k)
+        nbr = np.asarray(nbr).reshape(len(sel), k)
+        bound[lo : lo + 2048] = material_left(probes[sel], dirs[sel], centres[nbr], R)
+    for j in np.argsort(-bound):
+        if bound[j] <= best:
+            break
+        i = open_[j]
         idx = tree.query_ball_point(probes[i], R + 1.0)
         if not idx:
             val = 1.0
@@ -755,3 +771,4 @@ def cut_deviation(
         if val > best:
             best, where = val, probes[i]
     return best, (where if locate else None)
+

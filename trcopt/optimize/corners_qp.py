@@ -199,9 +199,10 @@ def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, rad
     A probe is a point of the exact cut boundary with the unit direction pointing away from the
     material; the new tool sweeps discs of ``radius`` around ``centres``. The result is the
     distance along the ray to the first disc (0 when the probe itself is swept). Sampled centres
-    sweep a subset of the true region, so the value is an upper bound.
+    sweep a subset of the true region, so the value is an upper bound. ``centres`` is m×2 (the
+    same for every probe) or n×m×2 (its own centres per probe).
     """
-    rel = centres[None, :, :] - probes[:, None, :]  # n×m×2
+    rel = (centres if centres.ndim == 3 else centres[None, :, :]) - probes[:, None, :]  # n×m×2
     along = np.einsum("nmk,nk->nm", rel, dirs)
     perp2 = np.einsum("nmk,nmk->nm", rel, rel) - along * along
     inside = perp2 <= radius * radius
