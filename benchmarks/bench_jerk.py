@@ -316,7 +316,7 @@ def compare_table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-PROGRAMS = ("pocket_square", "star_g451", "gear_12")
+PROGRAMS = ("pocket_square", "star_g451", "gear_12", "cam_freeform")
 
 
 def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, workers: int = 2) -> str:
@@ -331,6 +331,7 @@ def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, worke
         "| vs exact (jerk) | jerk ratio | valid | wall s |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
+    print("\n".join(out), flush=True)
     for name in names:
         ref = None
         variants = (("exact path", "exact"), ("circular blends", "arc"), ("optimal, jerk objective", "optimal"))
@@ -358,11 +359,14 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--big", action="store_true", help="add B9 with 1 000 segments (slow)")
     ap.add_argument("--no-families", action="store_true")
-    ap.add_argument("--programs", action="store_true", help="only the part programs of problems/corners")
+    ap.add_argument(
+        "--programs", nargs="*", metavar="NAME", default=None,
+        help="only part programs of problems/corners (all of PROGRAMS when no NAME is given)",
+    )
     ap.add_argument("--workers", type=int, default=2, help="processes for B9 with 1 000 segments")
     args = ap.parse_args(argv)
-    if args.programs:
-        print(compare_programs(workers=args.workers))
+    if args.programs is not None:
+        compare_programs(names=tuple(args.programs) or PROGRAMS, workers=args.workers)  # prints each row
         return
     if not args.no_families:
         rows = run_families(args.big, args.workers)
