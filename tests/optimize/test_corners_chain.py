@@ -121,3 +121,20 @@ def test_cli_reports_spline_corners(tmp_path, capsys):
     assert corners["spline"] == 5 and corners["blended"] == 5
     assert corners["max_deviation_mm"] <= EPS
     assert "5 on G2 splines" in capsys.readouterr().out
+
+
+def test_long_runs_are_split_into_splines_that_meet_mid_chord(outside, monkeypatch):
+    import trcopt.optimize.corners_chain as chain_mod
+
+    r, whole = outside
+    monkeypatch.setattr(chain_mod, "CHAIN_MAX_CORNERS", 7)
+    split = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
+    assert split.count("spline") == 15
+    polys = [s for s in split.segments if isinstance(s.geometry, Poly)]
+    # 15 corners in runs of 5 (16 elements; the two shared chords hold the end of one spline and the
+    # start of the next, so 18 pieces)
+    assert len(polys) == 18
+    for a, b in zip(split.segments[:-1], split.segments[1:], strict=True):
+        assert math.dist(a.geometry.end, b.geometry.start) < 1e-9
+    assert split.max_deviation_mm <= EPS and not gouges(r.programmed, split.segments)
+    assert time_parameterize(whole.segments).duration <= time_parameterize(split.segments).duration * (1 + 1e-9)

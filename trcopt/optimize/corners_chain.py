@@ -44,6 +44,7 @@ __all__ = ["ChainSite", "ChainSolution", "find_chains", "solve_chain"]
 CHAIN_MAX_TURN_DEG = 20.0  # joints of larger deflection keep per-corner transitions
 CHAIN_MAX_CHORD_MM = 5.0  # longest element inside a run
 CHAIN_MIN_CORNERS = 3  # shorter runs keep per-corner transitions
+CHAIN_MAX_CORNERS = 200  # longer runs are split (the splines meet mid-chord): bounded QP size
 CHAIN_END_MM = 10.0  # most of a neighbouring element a spline end may take
 KNOT_STEP_MM = 0.5  # longest knot span of the spline
 SAMPLES_PER_SPAN = 6  # constraint samples per knot span
@@ -98,7 +99,8 @@ def find_chains(
     toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc]
 ) -> list[ChainSite]:
     """Maximal runs of ≥ CHAIN_MIN_CORNERS consecutive joints (of ``joints``, sorted) of deflection
-    ≤ CHAIN_MAX_TURN_DEG joined by lines ≤ CHAIN_MAX_CHORD_MM. ``all_joints`` are every corner site
+    ≤ CHAIN_MAX_TURN_DEG joined by lines ≤ CHAIN_MAX_CHORD_MM, split into runs of at most
+    CHAIN_MAX_CORNERS (neighbouring runs share a chord, half each). ``all_joints`` are every corner site
     (a neighbouring per-corner transition owns half of a shared element); ``contour`` the
     programmed part contour (plane elements)."""
     max_turn = math.radians(CHAIN_MAX_TURN_DEG)
@@ -115,10 +117,15 @@ def find_chains(
             runs[-1].append(k)
         else:
             runs.append([k])
-    out = []
+    pieces = []
     for run in runs:
         if len(run) < CHAIN_MIN_CORNERS:
             continue
+        parts = -(-len(run) // CHAIN_MAX_CORNERS)
+        size = -(-len(run) // parts)
+        pieces += [run[i : i + size] for i in range(0, len(run), size)]
+    out = []
+    for run in pieces:
         first, last = run[0], run[-1] + 1
         ga, gb = toolpath[first].geometry, toolpath[last].geometry
         share_a = 0.5 if (first - 1) in all_joints else 0.98
