@@ -189,3 +189,23 @@ def test_jerk_mode_without_jerk_limits_keeps_the_acceleration_limited_feed(tmp_p
     assert "jerk-limited feed not computed" in text and "jmax_mm_s3" in text
     timing = json.loads(out.read_text())["timing"]
     assert timing["duration_s"] > 0 and not timing.get("jerk_limited", False)
+
+
+def test_jerk_limited_feed_that_fails_its_check_is_reported(tmp_path, capsys, monkeypatch) -> None:
+    import dataclasses
+
+    from trcopt.timing.jerk import JerkTrajectory
+
+    real = JerkTrajectory.check_limits
+
+    def failing(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+        return dataclasses.replace(real(self, *args, **kwargs), ok=False, jerk_ratio=(1.0523, 0.9, 0.0))
+
+    monkeypatch.setattr(JerkTrajectory, "check_limits", failing)
+    prog = ROOT / "problems" / "corners" / "pocket_square.mpf"
+    out = tmp_path / "j.json"
+    assert main(["plan", str(prog), "--jerk", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "jerk-limited feed check" in text and "jerk measure 1.0523" in text
+    plan = json.loads(out.read_text())
+    assert any("jerk measure 1.0523" in d["message"] for d in plan["diagnostics"])

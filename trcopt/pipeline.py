@@ -274,6 +274,9 @@ def _attach_toolholder(result: PlanResult) -> None:
     result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
 
 
+JERK_CHECK_DT_S = 2e-4  # sampling of the limit check of a jerk-limited feed
+
+
 def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, workers: int = 1) -> None:
     try:
         from .timing import time_parameterize
@@ -291,6 +294,17 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
             result.timing = jerk_limited(result.toolpath, machine, base=result.timing, workers=workers)
         except TrcoptError as exc:
             _timing_warning(result, exc, "jerk-limited feed not computed (the acceleration-limited feed is kept)")
+            return
+        # never silently wrong: the profile is re-checked against every limit
+        rep = result.timing.check_limits(dt=JERK_CHECK_DT_S)
+        if not rep.ok:
+            from .errors import TimingError
+
+            msg = (
+                f"the jerk-limited feed exceeds a limit: jerk measure {max(rep.jerk_ratio):.4f}, "
+                f"acceleration {max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f} × the machine limit"
+            )
+            _timing_warning(result, TimingError(msg), "jerk-limited feed check")
 
 
 def _timing_warning(result: PlanResult, exc: TrcoptError, what: str) -> None:
