@@ -238,6 +238,9 @@ def plan(
             # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
             # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
             objective=objective,
+            # run splines are not used under jerk limits: their profiles failed the jerk check by
+            # 5 % (benchmarks/JERK.md); per-corner G2 transitions pass it
+            chains=not opts.jerk,
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
