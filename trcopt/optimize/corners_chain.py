@@ -21,9 +21,10 @@ The spline is found by sequential convex programming, one OSQP QP per step:
   the material is ≤ ε′ (linearised at the current foot point), ε′ = ε·cos(θmax/2)·(1 − margin):
   the material left at a vertex of deflection θ is the offset over cos(θ/2).
 
-Steps repeat from the new samples until the spline moves < 0.1 µm; the result is accepted only if
-the exact sampled clearance ≥ R holds; the caller measures the cut-part deviation independently
-(:func:`trcopt.optimize.corners.cut_deviation`) and tightens ε′ if it exceeds ε.
+Steps (each with a small proximal term) repeat until the spline moves < 1 µm across itself (at most
+MAX_STEPS); the result is accepted only if the dense-sampled clearance ≥ R and offset ≤ ε hold; the
+caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.cut_deviation`)
+and tightens ε′ if it exceeds ε.
 """
 
 from __future__ import annotations
