@@ -30,7 +30,15 @@ from ..errors import ConfigError
 from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
 from .corners_chain import ChainSite, ChainSolution, find_chains, solve_chain
-from .corners_qp import CornerBlendProblem, CornerGeometry, CornerSite, CornerSolution, material_left, quintic_basis
+from .corners_qp import (
+    CornerBlendProblem,
+    CornerGeometry,
+    CornerSite,
+    CornerSolution,
+    joint_turn,
+    material_left,
+    quintic_basis,
+)
 from .model import points_distance
 from .verify import part_contour
 
@@ -113,11 +121,6 @@ def _eligible(seg: Segment) -> bool:
     )
 
 
-def _turn(a: Line | Arc, b: Line | Arc) -> float:
-    ta, tb = a.end_tangent(), b.start_tangent()
-    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
-
-
 def _joint_indices(toolpath: Sequence[Segment]) -> list[int]:
     out = []
     for k in range(len(toolpath) - 1):
@@ -129,7 +132,7 @@ def _joint_indices(toolpath: Sequence[Segment]) -> list[int]:
         g1, g2 = s1.geometry, s2.geometry
         if math.dist(g1.end, g2.start) > 1e-9:
             continue
-        turn = abs(_turn(g1, g2))  # type: ignore[arg-type]
+        turn = abs(joint_turn(g1, g2))  # type: ignore[arg-type]
         if TANGENT_TOL_RAD < turn <= MAX_TURN_RAD:
             out.append(k)
     return out
@@ -231,7 +234,7 @@ def _circle_indices(toolpath: Sequence[Segment], joints: set[int]) -> list[int]:
             continue
         if max(math.dist(s1.geometry.end, arc.geometry.start), math.dist(arc.geometry.end, s2.geometry.start)) > 1e-9:
             continue
-        if TANGENT_TOL_RAD < abs(_turn(s1.geometry, s2.geometry)) <= MAX_TURN_RAD:
+        if TANGENT_TOL_RAD < abs(joint_turn(s1.geometry, s2.geometry)) <= MAX_TURN_RAD:
             out.append(k)
     return out
 
@@ -277,7 +280,7 @@ def find_corner_sites(
             b: Line | Arc = Line((X[0], X[1], gb.start[2]), gb.end)
             # the line leaves the circle by d²/(2R) at d beyond its tangent point: a transition that
             # leaves at most ε starts within a few sqrt(2Rε) of it
-            r_c = min_cut / math.tan(0.5 * abs(_turn(ga, gb)))
+            r_c = min_cut / math.tan(0.5 * abs(joint_turn(ga, gb)))
             near = 4.0 * math.sqrt(2.0 * r_c * tolerance_mm)
             avail_a = min_cut + ga.plane_length * share_a
             avail_b = min_cut + gb.plane_length * share_b
@@ -308,10 +311,10 @@ def find_corner_sites(
             ex.append(toolpath[last + 1].geometry)  # type: ignore[arg-type]
         step = probe_step or max(min(0.5 * tolerance_mm, (max(avail_a, avail_b) + R) / 300.0), 1e-4)
         # inside corners: the transition cannot be much longer than the same-ε circle's
-        c = math.cos(0.5 * abs(_turn(a, b)))
-        t_arc = tolerance_mm * c / max(1.0 - c, 1e-12) * math.tan(0.5 * abs(_turn(a, b)))
+        c = math.cos(0.5 * abs(joint_turn(a, b)))
+        t_arc = tolerance_mm * c / max(1.0 - c, 1e-12) * math.tan(0.5 * abs(joint_turn(a, b)))
         span = max(avail_a, avail_b)
-        if _turn(a, b) * sign < 0:
+        if joint_turn(a, b) * sign < 0:
             span = min(span, 4.0 * t_arc + 2.0 * R)
         if circle:
             span = min(span, min_cut + near)
@@ -615,7 +618,7 @@ def _assemble(
             seg = replace(segs[chain.first + j], geometry=piece, role=Role.CORNER, t_start_s=None, t_end_s=None)
             inserts.setdefault(chain.first + max(j - 1, 0), []).append(seg)
         for k in chain.joints:
-            turn = math.degrees(_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
+            turn = math.degrees(joint_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
             inside = turn * chain.material_sign < 0
             records.append(
                 CornerRecord(k, turn, inside, True, ceps, csol.max_curvature, None, None, "", "spline")

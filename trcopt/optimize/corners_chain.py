@@ -38,6 +38,7 @@ import numpy as np
 
 from ..geometry import Arc, Line, Poly
 from ..geometry.poly import parametric_curve
+from .corners_qp import joint_turn
 from .model import points_distance, points_foot
 
 __all__ = ["ChainSite", "ChainSolution", "find_chains", "solve_chain"]
@@ -91,11 +92,6 @@ class ChainSolution:
     wall_s: float
 
 
-def _turn(a: Line | Arc, b: Line | Arc) -> float:
-    ta, tb = a.end_tangent(), b.start_tangent()
-    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
-
-
 def find_chains(
     toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc]
 ) -> list[ChainSite]:
@@ -105,7 +101,7 @@ def find_chains(
     (a neighbouring per-corner transition owns half of a shared element); ``contour`` the
     programmed part contour (plane elements)."""
     max_turn = math.radians(CHAIN_MAX_TURN_DEG)
-    small = [k for k in joints if abs(_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= max_turn]
+    small = [k for k in joints if abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= max_turn]
     runs: list[list[int]] = []
     for k in small:
         g = toolpath[k].geometry
@@ -145,7 +141,7 @@ def find_chains(
         lo, hi = P.min(axis=0) - 3 * seg0.radius, P.max(axis=0) + 3 * seg0.radius
         prog = tuple(e for e in contour if _boxes_meet(e, lo, hi))
         sign = -1.0 if seg0.side.value == "left" else 1.0
-        turn = max(abs(_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) for k in run)
+        turn = max(abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) for k in run)
         out.append(
             ChainSite(first, last, tuple(run), lam_a, lam_b, els, full, prog, seg0.radius, sign, ga.end[2], turn)
         )
@@ -387,21 +383,12 @@ def _free_normals(e: Line | Arc, P: np.ndarray, material_sign: float) -> tuple[n
 def _free_offset(site: ChainSite, P: np.ndarray) -> float:
     """Largest distance of the points beyond the exact path on the side away from the material."""
     worst = 0.0
-    dists = np.array([points_distance(e, P) for e in site.full])
-    near = np.argmin(dists, axis=0)
+    near = np.argmin(np.array([points_distance(e, P) for e in site.full]), axis=0)
     for i, e in enumerate(site.full):
         m = near == i
-        if not np.any(m):
-            continue
-        f = points_foot(e, P[m])
-        lam = _lam_of(e, f)
-        tan = _tangents(e, lam)
-        free = -site.material_sign * np.stack((-tan[:, 1], tan[:, 0]), axis=1)
-        off = P[m] - f
-        side = np.sum(off * free, axis=1)
-        d = np.hypot(off[:, 0], off[:, 1])
-        val = np.where(side > 0.0, d, 0.0)
-        worst = max(worst, float(val.max()))
+        if np.any(m):
+            feet, mv = _free_normals(e, P[m], site.material_sign)
+            worst = max(worst, float(np.sum((P[m] - feet) * mv, axis=1).max()))
     return worst
 
 

@@ -80,6 +80,12 @@ def _frame(el: Element, lam: float) -> tuple[np.ndarray, np.ndarray, float]:
     return p, np.array(el.tangent2(lam), float), el.sense / el.radius
 
 
+def joint_turn(a: Element, b: Element) -> float:
+    """Signed turning angle from the end of ``a`` to the start of ``b``, rad (positive = left)."""
+    ta, tb = a.end_tangent(), b.start_tangent()
+    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
+
+
 def _rot90(v: np.ndarray) -> np.ndarray:
     return np.stack((-v[..., 1], v[..., 0]), axis=-1)
 
@@ -163,9 +169,7 @@ class CornerSite:
     @property
     def turn(self) -> float:
         """Signed turning angle at J, rad (positive = left)."""
-        ta = np.array(self.a.end_tangent())
-        tb = np.array(self.b.start_tangent())
-        return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], float(ta @ tb))
+        return joint_turn(self.a, self.b)
 
     @property
     def inside(self) -> bool:
