@@ -126,6 +126,30 @@ class Poly:
         )
         return (out[0], out[1], out[2])
 
+    def higher(self, s: float) -> tuple[Vec3, Vec3]:
+        """Fourth (linear in s) and fifth (constant) derivatives in arc length at ``s`` on the piece
+        that holds ``s``; zero on cubic pieces. With :meth:`derivatives` and :meth:`third` they give
+        the exact Taylor expansion of a piece; per mm³ and per mm⁴."""
+        i, h, t = self._locate(s)
+        if h <= 0 or self.curvatures is None:
+            return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        rows = [
+            (a, h * c, h * h * e, h * h * f, h * d, b)
+            for a, b, c, d, e, f in zip(
+                self.points[i],
+                self.points[i + 1],
+                self.tangents[i],
+                self.tangents[i + 1],
+                self.curvatures[i],
+                self.curvatures[i + 1],
+                strict=True,
+            )
+        ]
+        b4, b5 = quintic_hermite_higher(t)
+        d4 = tuple(sum(w * x for w, x in zip(b4, row, strict=True)) / h**4 for row in rows)
+        d5 = tuple(sum(w * x for w, x in zip(b5, row, strict=True)) / h**5 for row in rows)
+        return (d4[0], d4[1], d4[2]), (d5[0], d5[1], d5[2])
+
     def reversed(self) -> Poly:
         total = self.cum[-1]
         return Poly(
@@ -278,6 +302,15 @@ def quintic_hermite_third(u):  # type: ignore[no-untyped-def]
         3 - 24 * u + 30 * u2,
         -24 + 168 * u - 180 * u2,
         60 - 360 * u + 360 * u2,
+    )
+
+
+def quintic_hermite_higher(u):  # type: ignore[no-untyped-def]
+    """Fourth and fifth derivatives of the quintic Hermite basis functions (order as
+    :func:`quintic_hermite_basis`); the fifth are constants."""
+    return (
+        (360 - 720 * u, 192 - 360 * u, 36 - 60 * u, -24 + 60 * u, 168 - 360 * u, -360 + 720 * u),
+        (-720.0, -360.0, -60.0, 60.0, -360.0, 720.0),
     )
 
 
