@@ -316,7 +316,7 @@ def compare_table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-PROGRAMS = ("pocket_square", "star_g451", "gear_12", "cam_freeform")
+PROGRAMS = ("pocket_square", "star_g451", "gear_12", "cam_freeform", "cam_circle")
 
 
 def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, workers: int = 2) -> str:
@@ -347,6 +347,8 @@ def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, worke
             ref = ref or traj.duration
             info = res.extra.get("corners") or {}
             blended = f"{info.get('blended', 0)}" if info else "0"
+            if info.get("spline"):
+                blended += f" ({info['spline']} on run splines)"
             out.append(
                 f"| {name} | {label} | {blended} | {traj.base.duration:.4f} | {traj.duration:.4f} | "
                 f"{traj.duration / ref:.3f} | {max(rep.jerk_ratio):.4f} | {'yes' if rep.ok else 'NO'} | {wall:.1f} |"

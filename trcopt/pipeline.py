@@ -238,9 +238,8 @@ def plan(
             # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
             # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
             objective=objective,
-            # run splines are not used under jerk limits: their profiles failed the jerk check by
-            # 5 % (benchmarks/JERK.md); per-corner G2 transitions pass it
-            chains=not opts.jerk,
+            # runs of small deflections become one G2 spline in both modes (benchmarks/JERK.md)
+            chains=True,
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
