@@ -112,13 +112,11 @@ def _solve_own(
 ) -> tuple[dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]], list[int]]:
     amin = float(amax.min())
     # 1. grids: flat list of intervals (segment, local s at both ends) over all sections
-    cache: dict[int, tuple[np.ndarray, float]] = {}
     s_lo, s_hi, seg_of, rate_of = [], [], [], []
     n_int = np.zeros(len(secs), dtype=np.int64)
     for q, sec in enumerate(secs):
         for k in sec.segment_indices:
             local, rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, "own")
-            cache[k] = (local, rate)
             m = local.shape[0] - 1
             s_lo.append(local[:-1])
             s_hi.append(local[1:])
