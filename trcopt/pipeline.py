@@ -148,7 +148,9 @@ class PlanResult:
             lines.append(
                 f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended "
                 f"({corners['quintic']} G2 quintic, {corners.get('spline', 0)} on G2 splines, "
-                f"{corners['arc']} circular), "
+                f"{corners['arc']} circular"
+                + (f"; {corners['curvature_jumps']} curvature jumps smoothed" if corners.get("curvature_jumps") else "")
+                + "), "
                 f"max deviation {corners['max_deviation_mm']:.4f} mm"
             )
         if self.verification is not None:
@@ -249,6 +251,7 @@ def plan(
             "blended": blended.blended,
             "quintic": blended.count("quintic"),
             "spline": blended.count("spline"),
+            "curvature_jumps": blended.curvature_jumps,
             "arc": blended.count("arc"),
             "max_deviation_mm": blended.max_deviation_mm,
         }

@@ -29,7 +29,15 @@ from ..config import DEFAULT_MACHINE, Machine
 from ..errors import ConfigError
 from ..geometry import Arc, Line, Poly, hermite_curve
 from ..path import Role, Segment
-from .corners_chain import ChainSite, ChainSolution, find_chains, solve_chain
+from .corners_chain import (
+    KNOT_MIN_JUMP_PER_MM,
+    ChainSite,
+    ChainSolution,
+    find_chains,
+    knot_site,
+    signed_curvature,
+    solve_chain,
+)
 from .corners_qp import (
     CornerBlendProblem,
     CornerGeometry,
@@ -53,6 +61,7 @@ __all__ = [
 ]
 
 MAX_TURN_RAD = math.radians(170.0)
+JUMP_SMOOTHED = "curvature jump smoothed"  # reason of a record whose curvature jump got a G2 spline
 TANGENT_TOL_RAD = 1e-6
 TARGET_MARGIN = 2e-3
 NEAREST_CENTRES = 128  # centres per probe for the bound of the deviation measurement
@@ -104,8 +113,13 @@ class CornerResult:
         return sum(c.blended for c in self.corners)
 
     def count(self, transition: str) -> int:
-        """Corners blended with ``transition`` (``"quintic"`` or ``"arc"``)."""
+        """Corners blended with ``transition`` (``"quintic"``, ``"spline"`` or ``"arc"``)."""
         return sum(c.blended and c.transition == transition for c in self.corners)
+
+    @property
+    def curvature_jumps(self) -> int:
+        """Curvature jumps (tangent-continuous joints) replaced by G2 splines."""
+        return sum(c.blended and c.reason == JUMP_SMOOTHED for c in self.corners)
 
 
 # ------------------------------------------------------------------------------------- sites
@@ -235,6 +249,26 @@ def _circle_indices(toolpath: Sequence[Segment], joints: set[int]) -> list[int]:
         if max(math.dist(s1.geometry.end, arc.geometry.start), math.dist(arc.geometry.end, s2.geometry.start)) > 1e-9:
             continue
         if TANGENT_TOL_RAD < abs(joint_turn(s1.geometry, s2.geometry)) <= MAX_TURN_RAD:
+            out.append(k)
+    return out
+
+
+def _knot_indices(toolpath: Sequence[Segment], taken: set[int]) -> list[int]:
+    """Indices k of tangent-continuous joints between ``toolpath[k]`` and ``[k + 1]`` whose
+    curvature jumps by at least KNOT_MIN_JUMP_PER_MM (line↔arc, arcs of different curvature), not
+    in ``taken`` (the joints of other sites)."""
+    out = []
+    for k in range(len(toolpath) - 1):
+        s1, s2 = toolpath[k], toolpath[k + 1]
+        if k in taken or not (_eligible(s1) and _eligible(s2)):
+            continue
+        if s1.plane != s2.plane or s1.side != s2.side or abs(s1.radius - s2.radius) > 1e-12:
+            continue
+        g1, g2 = s1.geometry, s2.geometry
+        assert isinstance(g1, Line | Arc) and isinstance(g2, Line | Arc)
+        if math.dist(g1.end, g2.start) > 1e-9 or abs(joint_turn(g1, g2)) > TANGENT_TOL_RAD:
+            continue
+        if abs(signed_curvature(g2) - signed_curvature(g1)) >= KNOT_MIN_JUMP_PER_MM:
             out.append(k)
     return out
 
@@ -440,14 +474,16 @@ def blend_corners(
     segs = list(toolpath)
     if mode is CornerMode.EXACT or tolerance_mm <= 0:
         return CornerResult(segs, [], 0.0, mode)
-    # under jerk limits the G450 transition circles are curvature jumps worth replacing as well
-    circles = mode is CornerMode.OPTIMAL and objective == "jerk"
-    sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm, transition_circles=circles)
+    # under jerk limits the G450 transition circles and the other curvature jumps (line↔arc, arcs
+    # of different curvature) are worth replacing as well
+    jumps = mode is CornerMode.OPTIMAL and objective == "jerk"
+    sites = find_corner_sites(segs, programmed, tolerance_mm=tolerance_mm, transition_circles=jumps)
     # a small margin for the difference between the per-corner and the global sampling
     eps_of = {k: (1.0 - TARGET_MARGIN) * tolerance_mm for k, _ in sites}
-    # runs of small-deflection corners (CAM polylines): one G2 spline across each run
+    # runs of small-deflection corners (CAM polylines): one G2 spline across each run; curvature
+    # jumps: one G2 spline across each jump
     runs = chains and mode is CornerMode.OPTIMAL
-    splines = _solve_chains(segs, programmed, sites, tolerance_mm) if runs else []
+    splines, kept = _solve_chains(segs, programmed, sites, tolerance_mm, runs=runs, knots=jumps)
     in_chain = {k for c, _, _ in splines for k in c.joints}
     single = [(k, site) for k, site in sites if k not in in_chain]
     result = CornerResult(segs, [], 0.0, mode)
@@ -461,8 +497,11 @@ def blend_corners(
         result.max_deviation_mm = dev
         if dev <= tolerance_mm or where is None:
             break
-        # tighten the corner (or the run of corners) closest to the worst probe and try again
-        k_bad = min(sites, key=lambda ks: float(np.hypot(*(ks[1].joint - where))))[0]
+        # tighten the corner (or the run of corners, or the curvature jump) closest to the worst
+        # probe and try again
+        near = [(k, site.joint) for k, site in sites]
+        near += [(k, np.array(segs[k].geometry.end[:2])) for c, _, _ in splines for k in c.joints if k not in eps_of]
+        k_bad = min(near, key=lambda kp: float(np.hypot(*(kp[1] - where))))[0]
         factor = 0.98 * tolerance_mm / max(dev, tolerance_mm)
         if k_bad in in_chain:
             i = next(i for i, c in enumerate(splines) if k_bad in c[0].joints)
@@ -474,31 +513,57 @@ def blend_corners(
                 splines.pop(i)
                 in_chain -= set(chain.joints)
                 single = [(k, site) for k, site in sites if k not in in_chain]
+                if chain.max_turn <= TANGENT_TOL_RAD:
+                    why = f"spline infeasible at ε {eps_c * factor:.6g} mm ({sol.message})"
+                    kept.append(_kept_jump(segs, chain, why))
         else:
             eps_of[k_bad] *= factor
     if mode is CornerMode.OPTIMAL and select and (result.count("quintic") or result.count("spline")):
         result = _fastest(segs, programmed, single, eps_of, solved, result, tolerance_mm, machine, splines, sites)
+    if kept:
+        result.corners = sorted(result.corners + kept, key=lambda r: r.index)
     return result
 
 
+def _kept_jump(segs: list[Segment], chain: ChainSite, why: str) -> CornerRecord:
+    """Record of a curvature jump whose spline was not used (the exact path stays there)."""
+    k = chain.joints[0]
+    turn = math.degrees(joint_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
+    return CornerRecord(k, turn, False, False, 0.0, reason=f"curvature jump kept: {why}")
+
+
 def _solve_chains(
-    segs: list[Segment], programmed: Sequence[Segment], sites: list[tuple[int, CornerSite]], tolerance_mm: float
-) -> list[tuple[ChainSite, ChainSolution, float]]:
-    """The runs of small-deflection corners and their G2 splines (feasible ones only)."""
+    segs: list[Segment],
+    programmed: Sequence[Segment],
+    sites: list[tuple[int, CornerSite]],
+    tolerance_mm: float,
+    *,
+    runs: bool = True,
+    knots: bool = False,
+) -> tuple[list[tuple[ChainSite, ChainSolution, float]], list[CornerRecord]]:
+    """G2 splines across the runs of small-deflection corners (``runs``) and across the curvature
+    jumps (``knots``): the feasible ones, and records of the curvature jumps that keep the exact
+    path."""
     plain = [k for k, site in sites if site.min_cut == 0.0]
     owned = {k for k, _ in sites} | {k + 1 for k, site in sites if site.min_cut > 0.0}
+    jumps = _knot_indices(segs, owned) if knots else []
+    owned |= set(jumps)
     contour = [
         p.geometry
         for p in part_contour(programmed, segs)
         if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
     eps = (1.0 - TARGET_MARGIN) * tolerance_mm
-    out = []
-    for chain in find_chains(segs, plain, owned, contour):  # type: ignore[arg-type]
+    out, kept = [], []
+    found = find_chains(segs, plain, owned, contour) if runs else []  # type: ignore[arg-type]
+    found += [knot_site(segs, k, owned, contour, eps) for k in jumps]  # type: ignore[arg-type]
+    for chain in found:
         sol = solve_chain(chain, eps)
         if sol.ok:
             out.append((chain, sol, eps))
-    return out
+        elif chain.max_turn <= TANGENT_TOL_RAD:
+            kept.append(_kept_jump(segs, chain, f"spline infeasible ({sol.message})"))
+    return out, kept
 
 
 def _fastest(
@@ -617,11 +682,13 @@ def _assemble(
         for j, piece in enumerate(csol.pieces):
             seg = replace(segs[chain.first + j], geometry=piece, role=Role.CORNER, t_start_s=None, t_end_s=None)
             inserts.setdefault(chain.first + max(j - 1, 0), []).append(seg)
+        jump = chain.max_turn <= TANGENT_TOL_RAD
         for k in chain.joints:
             turn = math.degrees(joint_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
-            inside = turn * chain.material_sign < 0
+            inside = not jump and turn * chain.material_sign < 0
+            why = JUMP_SMOOTHED if jump else ""
             records.append(
-                CornerRecord(k, turn, inside, True, ceps, csol.max_curvature, None, None, "", "spline")
+                CornerRecord(k, turn, inside, True, ceps, csol.max_curvature, None, None, why, "spline")
             )
     for k, site in sites:
         eps = eps_of[k]

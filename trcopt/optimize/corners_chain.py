@@ -25,6 +25,14 @@ Steps (each with a small proximal term) repeat until the spline moves < 1 µm ac
 MAX_STEPS); the result is accepted only if the dense-sampled clearance ≥ R and offset ≤ ε hold; the
 caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.cut_deviation`)
 and tightens ε′ if it exceeds ε.
+
+The same spline smooths a **curvature jump** (:func:`knot_site`): at a tangent-continuous joint
+between a line and an arc, or arcs of different curvature, the acceleration of exact path following
+steps, which limits a jerk-limited feed. A single quintic cannot join a line and a circle tangent to
+it in G2 without crossing them (the offset from the exact path would have to vanish to second order
+at both ends with a jump of its second derivative in between), so it would gouge or leave material
+on both sides; the spline has the freedom to stay on the free side within ε. Its ends lie up to
+KNOT_SIDE_LENGTHS·:func:`knot_length` from the joint.
 """
 
 from __future__ import annotations
@@ -41,7 +49,7 @@ from ..geometry.poly import parametric_curve
 from .corners_qp import joint_turn
 from .model import points_distance, points_foot
 
-__all__ = ["ChainSite", "ChainSolution", "find_chains", "solve_chain"]
+__all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "signed_curvature", "solve_chain"]
 
 CHAIN_MAX_TURN_DEG = 20.0  # joints of larger deflection keep per-corner transitions
 CHAIN_MAX_CHORD_MM = 5.0  # longest element inside a run
@@ -56,6 +64,8 @@ END_RAMP_MM = 1.0  # the clearance margin grows from 0 at the (exact) spline end
 MAX_STEPS = 6
 CONVERGED_MM = 1e-3  # largest movement across the curve of a converged step, mm
 PROX = 1e-3  # proximal weight of the step QPs, relative to the mean curvature-Hessian diagonal
+KNOT_MIN_JUMP_PER_MM = 1e-3  # smaller curvature jumps (radius ≥ 1 m next to a line) are left alone
+KNOT_SIDE_LENGTHS = 2.0  # a curvature-jump spline takes up to this many knot_length on each side
 
 
 @dataclass(frozen=True)
@@ -121,31 +131,56 @@ def find_chains(
         parts = -(-len(run) // CHAIN_MAX_CORNERS)
         size = -(-len(run) // parts)
         pieces += [run[i : i + size] for i in range(0, len(run), size)]
-    out = []
-    for run in pieces:
-        first, last = run[0], run[-1] + 1
-        ga, gb = toolpath[first].geometry, toolpath[last].geometry
-        share_a = 0.5 if (first - 1) in all_joints else 0.98
-        share_b = 0.5 if last in all_joints else 0.98
-        da = min(share_a * ga.plane_length, CHAIN_END_MM)
-        db = min(share_b * gb.plane_length, CHAIN_END_MM)
-        lam_a, lam_b = 1.0 - da / ga.plane_length, db / gb.plane_length
-        full = tuple(toolpath[i].geometry for i in range(first, last + 1))
-        els = (
-            ga.sub(lam_a, 1.0, ga.start[2], ga.end[2]),
-            *full[1:-1],
-            gb.sub(0.0, lam_b, gb.start[2], gb.end[2]),
-        )
-        seg0 = toolpath[first]
-        P = np.array([e.point2(x) for e in full for x in (0.0, 0.5, 1.0)])
-        lo, hi = P.min(axis=0) - 3 * seg0.radius, P.max(axis=0) + 3 * seg0.radius
-        prog = tuple(e for e in contour if _boxes_meet(e, lo, hi))
-        sign = -1.0 if seg0.side.value == "left" else 1.0
-        turn = max(abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) for k in run)
-        out.append(
-            ChainSite(first, last, tuple(run), lam_a, lam_b, els, full, prog, seg0.radius, sign, ga.end[2], turn)
-        )
-    return out
+    return [_run_site(toolpath, run, all_joints, contour, CHAIN_END_MM) for run in pieces]
+
+
+def signed_curvature(el: Line | Arc) -> float:
+    """Signed plane curvature of a line (0) or arc (positive = turning left), 1/mm."""
+    return 0.0 if isinstance(el, Line) else el.sense / el.radius
+
+
+def knot_length(curvature_change: float, eps: float) -> float:
+    """Length of the clothoid whose largest offset from the line or circles it joins,
+    ``L²·|Δκ|/24``, equals ``eps``, mm: the natural length of a transition across a jump of
+    curvature ``Δκ`` within ``eps``."""
+    return math.sqrt(24.0 * eps / max(abs(curvature_change), 1e-12))
+
+
+def knot_site(
+    toolpath: Sequence, k: int, all_joints: set[int], contour: Sequence[Line | Arc], eps: float
+) -> ChainSite:
+    """The curvature jump at the tangent-continuous joint ``k`` (line↔arc, arcs of different
+    curvature) as a one-joint run: the spline takes up to KNOT_SIDE_LENGTHS·:func:`knot_length`
+    of each neighbour (half of an element shared with another site)."""
+    dk = signed_curvature(toolpath[k + 1].geometry) - signed_curvature(toolpath[k].geometry)
+    side = min(KNOT_SIDE_LENGTHS * knot_length(dk, eps), CHAIN_END_MM)
+    return _run_site(toolpath, [k], all_joints, contour, side)
+
+
+def _run_site(
+    toolpath: Sequence, run: list[int], all_joints: set[int], contour: Sequence[Line | Arc], end_mm: float
+) -> ChainSite:
+    """The spline site across the joints ``run``: up to ``end_mm`` of each end element."""
+    first, last = run[0], run[-1] + 1
+    ga, gb = toolpath[first].geometry, toolpath[last].geometry
+    share_a = 0.5 if (first - 1) in all_joints else 0.98
+    share_b = 0.5 if last in all_joints else 0.98
+    da = min(share_a * ga.plane_length, end_mm)
+    db = min(share_b * gb.plane_length, end_mm)
+    lam_a, lam_b = 1.0 - da / ga.plane_length, db / gb.plane_length
+    full = tuple(toolpath[i].geometry for i in range(first, last + 1))
+    els = (
+        ga.sub(lam_a, 1.0, ga.start[2], ga.end[2]),
+        *full[1:-1],
+        gb.sub(0.0, lam_b, gb.start[2], gb.end[2]),
+    )
+    seg0 = toolpath[first]
+    P = np.array([e.point2(x) for e in full for x in (0.0, 0.5, 1.0)])
+    lo, hi = P.min(axis=0) - 3 * seg0.radius, P.max(axis=0) + 3 * seg0.radius
+    prog = tuple(e for e in contour if _boxes_meet(e, lo, hi))
+    sign = -1.0 if seg0.side.value == "left" else 1.0
+    turn = max(abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) for k in run)
+    return ChainSite(first, last, tuple(run), lam_a, lam_b, els, full, prog, seg0.radius, sign, ga.end[2], turn)
 
 
 def _boxes_meet(e: Line | Arc, lo: np.ndarray, hi: np.ndarray) -> bool:
