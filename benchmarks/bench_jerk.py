@@ -316,7 +316,7 @@ def compare_table(rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-PROGRAMS = ("pocket_square", "star_g451", "gear_12", "cam_freeform", "cam_circle")
+PROGRAMS = ("pocket_square", "star_g451", "gear_12", "obround_pocket", "obround_boss", "cam_freeform", "cam_circle")
 
 
 def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, workers: int = 2) -> str:

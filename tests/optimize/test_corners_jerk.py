@@ -105,8 +105,10 @@ N60 M30
 """
 
 
-def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_objective():
+@pytest.mark.parametrize("chains", [False, True])
+def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_objective(chains):
     from trcopt.geometry import Arc, Poly
+    from trcopt.optimize.corners import JUMP_SMOOTHED
     from trcopt.path import Role
     from trcopt.pipeline import plan
 
@@ -115,16 +117,24 @@ def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_ob
     circles = [s for s in r.toolpath if s.role is Role.CORNER and isinstance(s.geometry, Arc)]
     assert len(circles) == 1  # the outside corner at X40 Y-10 gets a G450 circle of radius R
     # acceleration-limited (curvature objective): the circle is already the least-curvature transition
-    plain = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False)
+    plain = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False, chains=chains)
     assert plain.corners == [] and plain.segments == r.toolpath
-    res = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False, objective="jerk")
-    (rec,) = res.corners
-    assert rec.blended and rec.transition == "quintic", rec.reason
+    res = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False, objective="jerk", chains=chains)
+    if chains:
+        # the circle's two curvature jumps as one G2 spline from line to line (a piece per element)
+        assert [(c.blended, c.transition, c.reason) for c in res.corners] == [(True, "spline", JUMP_SMOOTHED)] * 2
+        assert res.curvature_jumps == 2
+    else:
+        # a quintic SQP transition replaces the circle
+        (rec,) = res.corners
+        assert rec.blended and rec.transition == "quintic", rec.reason
     corner = [s for s in res.segments if s.role is Role.CORNER]
-    assert len(corner) == 1 and isinstance(corner[0].geometry, Poly)
-    # the transition leaves the circle at its tangent points and stays outside it: the vertex keeps
-    # exactly R (no gouge, nothing left there) and the cut part is unchanged
-    pts = np.array([corner[0].geometry.point(x)[:2] for x in np.linspace(0.0, corner[0].geometry.length, 400)])
+    assert len(corner) == (3 if chains else 1) and all(isinstance(c.geometry, Poly) for c in corner)
+    # the transition stays outside the circle around the vertex: the vertex keeps at least R (no
+    # gouge) and the cut part leaves at most ε
+    pts = np.array(
+        [c.geometry.point(x)[:2] for c in corner for x in np.linspace(0.0, c.geometry.length, 400)]
+    )
     d = np.hypot(pts[:, 0] - 40.0, pts[:, 1] + 10.0)
     assert d.min() >= 3.0 - 1e-8
     assert res.max_deviation_mm <= 0.01 and not gouges(r.programmed, res.segments)

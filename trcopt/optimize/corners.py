@@ -483,7 +483,7 @@ def blend_corners(
     # runs of small-deflection corners (CAM polylines): one G2 spline across each run; curvature
     # jumps: one G2 spline across each jump
     runs = chains and mode is CornerMode.OPTIMAL
-    splines, kept = _solve_chains(segs, programmed, sites, tolerance_mm, runs=runs, knots=jumps)
+    splines, kept = _solve_chains(segs, programmed, sites, tolerance_mm, runs=runs, knots=jumps and chains)
     in_chain = {k for c, _, _ in splines for k in c.joints}
     single = [(k, site) for k, site in sites if k not in in_chain]
     result = CornerResult(segs, [], 0.0, mode)
@@ -513,7 +513,7 @@ def blend_corners(
                 splines.pop(i)
                 in_chain -= set(chain.joints)
                 single = [(k, site) for k, site in sites if k not in in_chain]
-                if chain.max_turn <= TANGENT_TOL_RAD:
+                if chain.max_turn <= TANGENT_TOL_RAD and len(chain.joints) == 1:
                     why = f"spline infeasible at ε {eps_c * factor:.6g} mm ({sol.message})"
                     kept.append(_kept_jump(segs, chain, why))
         else:
@@ -556,12 +556,16 @@ def _solve_chains(
     eps = (1.0 - TARGET_MARGIN) * tolerance_mm
     out, kept = [], []
     found = find_chains(segs, plain, owned, contour) if runs else []  # type: ignore[arg-type]
-    found += [knot_site(segs, k, owned, contour, eps) for k in jumps]  # type: ignore[arg-type]
+    if knots:
+        # curvature jumps: each line↔arc joint, and each G450 transition circle between two lines
+        # as a whole (its two joints); a feasible spline takes the place of the circle's site
+        runs_k = [[k] for k in jumps] + [[k, k + 1] for k, site in sites if site.min_cut > 0.0]
+        found += [knot_site(segs, run, owned, contour, eps) for run in runs_k]  # type: ignore[arg-type]
     for chain in found:
         sol = solve_chain(chain, eps)
         if sol.ok:
             out.append((chain, sol, eps))
-        elif chain.max_turn <= TANGENT_TOL_RAD:
+        elif chain.max_turn <= TANGENT_TOL_RAD and len(chain.joints) == 1:  # (a circle keeps its site)
             kept.append(_kept_jump(segs, chain, f"spline infeasible ({sol.message})"))
     return out, kept
 

@@ -147,14 +147,17 @@ def knot_length(curvature_change: float, eps: float) -> float:
 
 
 def knot_site(
-    toolpath: Sequence, k: int, all_joints: set[int], contour: Sequence[Line | Arc], eps: float
+    toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc], eps: float
 ) -> ChainSite:
-    """The curvature jump at the tangent-continuous joint ``k`` (line↔arc, arcs of different
-    curvature) as a one-joint run: the spline takes up to KNOT_SIDE_LENGTHS·:func:`knot_length`
-    of each neighbour (half of an element shared with another site)."""
-    dk = signed_curvature(toolpath[k + 1].geometry) - signed_curvature(toolpath[k].geometry)
+    """The curvature jumps at the consecutive tangent-continuous ``joints`` (a line↔arc joint,
+    arcs of different curvature, or both joints of a G450 transition circle) as one run: the
+    spline takes up to KNOT_SIDE_LENGTHS·:func:`knot_length` (of the largest jump) of each end
+    element (half of an element shared with another site)."""
+    dk = max(
+        abs(signed_curvature(toolpath[k + 1].geometry) - signed_curvature(toolpath[k].geometry)) for k in joints
+    )
     side = min(KNOT_SIDE_LENGTHS * knot_length(dk, eps), CHAIN_END_MM)
-    return _run_site(toolpath, [k], all_joints, contour, side)
+    return _run_site(toolpath, list(joints), all_joints, contour, side)
 
 
 def _run_site(
