@@ -61,6 +61,7 @@ __all__ = [
 ]
 
 MAX_TURN_RAD = math.radians(170.0)
+ARC_BLEND_TOL_MM = 1e-7  # the largest same-ε circular blend is found to this tangent length
 JUMP_SMOOTHED = "curvature jump smoothed"  # reason of a record whose curvature jump got a G2 spline
 TANGENT_TOL_RAD = 1e-6
 TARGET_MARGIN = 2e-3
@@ -406,7 +407,8 @@ def _arc_blend(site: CornerSite, eps: float) -> tuple[Arc, float, float] | None:
     if ok(hi):
         lo = hi
     else:
-        for _ in range(40):
+        # the feasible tangent lengths are an interval [0, T*]: bisect T* to ARC_BLEND_TOL_MM
+        while hi - lo > ARC_BLEND_TOL_MM:
             mid = 0.5 * (lo + hi)
             if ok(mid):
                 lo = mid
