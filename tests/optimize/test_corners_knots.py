@@ -19,7 +19,7 @@ from test_random_contours import _program, _simple_turning, contours  # noqa: E4
 from trcopt.compensation import compensate, programmed_segment  # noqa: E402
 from trcopt.geometry import Arc, Line, Poly  # noqa: E402
 from trcopt.optimize.corners import blend_corners, cut_deviation  # noqa: E402
-from trcopt.optimize.corners_chain import knot_length  # noqa: E402
+from trcopt.optimize.corners_chain import KNOT_SIDE_LENGTHS, knot_length  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2] / "problems" / "corners"
@@ -74,7 +74,7 @@ def test_jerk_objective_replaces_every_jump_by_a_g2_spline_within_tolerance(plan
     # each spline stays near its joint: within a few knot lengths of it
     dk = 1.0 / next(s.geometry.radius for s in r.toolpath if isinstance(s.geometry, Arc))
     span = sum(p.geometry.length for p in polys) / 4
-    assert span <= 4.0 * knot_length(dk, EPS) + 1e-6
+    assert span <= 2.0 * KNOT_SIDE_LENGTHS * knot_length(dk, EPS) * 1.01
 
 
 def _curv_vec(g, end: bool) -> np.ndarray:

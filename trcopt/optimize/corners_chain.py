@@ -65,7 +65,9 @@ MAX_STEPS = 6
 CONVERGED_MM = 1e-3  # largest movement across the curve of a converged step, mm
 PROX = 1e-3  # proximal weight of the step QPs, relative to the mean curvature-Hessian diagonal
 KNOT_MIN_JUMP_PER_MM = 1e-3  # smaller curvature jumps (radius ≥ 1 m next to a line) are left alone
-KNOT_SIDE_LENGTHS = 2.0  # a curvature-jump spline takes up to this many knot_length on each side
+# a curvature-jump spline takes up to this many knot_length on each side (1, 2, 3 and 5 measured
+# under jerk limits on the gear, star and obround programs: 3 is fastest)
+KNOT_SIDE_LENGTHS = 3.0
 
 
 @dataclass(frozen=True)
