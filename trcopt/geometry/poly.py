@@ -112,17 +112,18 @@ class Poly:
         i, h, t = self._locate(s)
         if h <= 0:
             return (0.0, 0.0, 0.0)
-        p0, p1, m0, m1 = self.points[i], self.points[i + 1], self.tangents[i], self.tangents[i + 1]
+        # the position weights of every derivative basis are opposite: use the chord p1 − p0, not
+        # the coordinates, so a short piece far from the origin keeps its digits
+        chord = tuple(b - a for a, b in zip(self.points[i], self.points[i + 1], strict=True))
+        m0, m1 = self.tangents[i], self.tangents[i + 1]
         if self.curvatures is None:
-            out = tuple(
-                (12 * a + 6 * h * c - 12 * b + 6 * h * d) / h**3 for a, b, c, d in zip(p0, p1, m0, m1, strict=True)
-            )
+            out = tuple((-12 * b + 6 * h * c + 6 * h * d) / h**3 for b, c, d in zip(chord, m0, m1, strict=True))
             return (out[0], out[1], out[2])
         k0, k1 = self.curvatures[i], self.curvatures[i + 1]
         b3 = quintic_hermite_third(t)
         out = tuple(
-            (b3[0] * a + b3[1] * h * c + b3[2] * h * h * e + b3[3] * h * h * f + b3[4] * h * d + b3[5] * b) / h**3
-            for a, b, c, d, e, f in zip(p0, p1, m0, m1, k0, k1, strict=True)
+            (b3[1] * h * c + b3[2] * h * h * e + b3[3] * h * h * f + b3[4] * h * d + b3[5] * b) / h**3
+            for b, c, d, e, f in zip(chord, m0, m1, k0, k1, strict=True)
         )
         return (out[0], out[1], out[2])
 
@@ -133,8 +134,9 @@ class Poly:
         i, h, t = self._locate(s)
         if h <= 0 or self.curvatures is None:
             return (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+        # positions as the chord p1 − p0 (see :meth:`third`)
         rows = [
-            (a, h * c, h * h * e, h * h * f, h * d, b)
+            (0.0, h * c, h * h * e, h * h * f, h * d, b - a)
             for a, b, c, d, e, f in zip(
                 self.points[i],
                 self.points[i + 1],
