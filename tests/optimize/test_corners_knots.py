@@ -18,8 +18,9 @@ from test_random_contours import _program, _simple_turning, contours  # noqa: E4
 
 from trcopt.compensation import compensate, programmed_segment  # noqa: E402
 from trcopt.geometry import Arc, Line, Poly  # noqa: E402
-from trcopt.optimize.corners import blend_corners, cut_deviation  # noqa: E402
+from trcopt.optimize.corners import JUMP_SMOOTHED, blend_corners, cut_deviation  # noqa: E402
 from trcopt.optimize.corners_chain import KNOT_SIDE_LENGTHS, knot_length  # noqa: E402
+from trcopt.optimize.corners_qp import signed_curvature  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2] / "problems" / "corners"
@@ -31,15 +32,11 @@ def planned(request):
     return request.param, plan_file(ROOT / f"{request.param}.mpf", PlanOptions(timing=False))
 
 
-def _curvature(g) -> float:
-    return 0.0 if isinstance(g, Line) else g.sense / g.radius
-
-
 def test_the_exact_path_is_tangent_continuous_with_four_curvature_jumps(planned):
     _, r = planned
     contour = [s for s in r.toolpath if s.role.value == "contour"]
     jumps = [
-        abs(_curvature(b.geometry) - _curvature(a.geometry))
+        abs(signed_curvature(b.geometry) - signed_curvature(a.geometry))
         for a, b in zip(contour, contour[1:], strict=False)
         if math.dist(a.geometry.end, b.geometry.start) < 1e-9
     ]
@@ -49,7 +46,7 @@ def test_the_exact_path_is_tangent_continuous_with_four_curvature_jumps(planned)
 def test_jerk_objective_replaces_every_jump_by_a_g2_spline_within_tolerance(planned):
     name, r = planned
     res = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, objective="jerk", select=False)
-    jumps = [c for c in res.corners if c.reason == "curvature jump smoothed"]
+    jumps = [c for c in res.corners if c.reason == JUMP_SMOOTHED]
     assert len(jumps) == 4 and all(c.transition == "spline" and c.blended for c in jumps)
     assert all(abs(c.turn_deg) < 1e-4 and not c.inside for c in jumps)
     # the cut part: at most ε of material left, nothing removed (independent check)
@@ -101,7 +98,7 @@ def test_jerk_limited_feed_is_faster_with_the_jumps_smoothed(name):
     rep = smooth.timing.check_limits(dt=2e-4)
     assert rep.ok and max(rep.jerk_ratio) <= 1.01, str(rep)
     assert smooth.extra["corners"]["curvature_jumps"] == 4
-    # measured 1.9202 → 1.7076 s (pocket) and 2.6174 → 2.3872 s (boss)
+    # measured 1.9202 → 1.7048 s (pocket) and 2.6174 → 2.3848 s (boss), benchmarks/JERK.md
     assert smooth.timing.duration < 0.93 * exact.timing.duration
 
 

@@ -35,7 +35,6 @@ from .corners_chain import (
     ChainSolution,
     find_chains,
     knot_site,
-    signed_curvature,
     solve_chain,
 )
 from .corners_qp import (
@@ -46,6 +45,7 @@ from .corners_qp import (
     joint_turn,
     material_left,
     quintic_basis,
+    signed_curvature,
 )
 from .model import points_distance
 from .verify import part_contour

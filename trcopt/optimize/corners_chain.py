@@ -46,10 +46,10 @@ import numpy as np
 
 from ..geometry import Arc, Line, Poly
 from ..geometry.poly import parametric_curve
-from .corners_qp import joint_turn
+from .corners_qp import joint_turn, signed_curvature
 from .model import points_distance, points_foot
 
-__all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "signed_curvature", "solve_chain"]
+__all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "solve_chain"]
 
 CHAIN_MAX_TURN_DEG = 20.0  # joints of larger deflection keep per-corner transitions
 CHAIN_MAX_CHORD_MM = 5.0  # longest element inside a run
@@ -134,11 +134,6 @@ def find_chains(
         size = -(-len(run) // parts)
         pieces += [run[i : i + size] for i in range(0, len(run), size)]
     return [_run_site(toolpath, run, all_joints, contour, CHAIN_END_MM) for run in pieces]
-
-
-def signed_curvature(el: Line | Arc) -> float:
-    """Signed plane curvature of a line (0) or arc (positive = turning left), 1/mm."""
-    return 0.0 if isinstance(el, Line) else el.sense / el.radius
 
 
 def knot_length(curvature_change: float, eps: float) -> float:

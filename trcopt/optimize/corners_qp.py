@@ -42,6 +42,7 @@ __all__ = [
     "CornerGeometry",
     "material_left",
     "quintic_basis",
+    "signed_curvature",
 ]
 
 Element = Line | Arc
@@ -77,7 +78,12 @@ def _frame(el: Element, lam: float) -> tuple[np.ndarray, np.ndarray, float]:
     p = np.array(el.point2(lam), float)
     if isinstance(el, Line):
         return p, np.array(el.direction2(), float), 0.0
-    return p, np.array(el.tangent2(lam), float), el.sense / el.radius
+    return p, np.array(el.tangent2(lam), float), signed_curvature(el)
+
+
+def signed_curvature(el: Element) -> float:
+    """Signed plane curvature of a line (0) or arc (positive = turning left), 1/mm."""
+    return 0.0 if isinstance(el, Line) else el.sense / el.radius
 
 
 def joint_turn(a: Element, b: Element) -> float:
