@@ -5,7 +5,7 @@ Run:  python benchmarks/bench_corners.py [problem.mpf ...] [--eps 0.01,0.1]
 
 Every plan is timed by trcopt's timing stage on the default machine. For each blended plan the
 independent no-gouge check (tests/gouge.py) and the sampled cut-part deviation
-(:func:`trcopt.optimize.corners.cut_deviation`) are reported.
+(:func:`trcopt.optimize.corners.blend.cut_deviation`) are reported.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from bench_timing import grbl_jd  # noqa: E402
 
 from tests.gouge import gouges  # noqa: E402
 from trcopt.config import DEFAULT_MACHINE  # noqa: E402
-from trcopt.optimize.corners import blend_corners  # noqa: E402
+from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 

@@ -7,7 +7,7 @@ IPOPT solve per section). Prints two markdown tables (see ``benchmarks/JERK.md``
    (``jerk_limited``), CTR = T_jerk/T_acc, the closed-form double-S reference on B1/B7, the jerk ratio
    by the documented measure, the 1 kHz finite-difference jerk ratio, validity and wall time;
 2. corner-dense parts: exact stop vs same-ε circular blends vs optimal transitions
-   (``trcopt.optimize.corners.optimize_corners`` when it is importable and blends the corners) under
+   (``trcopt.optimize.corners.blend.optimize_corners`` when it is importable and blends the corners) under
    acceleration and jerk limits.
 """
 
@@ -27,7 +27,7 @@ from timing_cases import ANISO, ISO, families  # noqa: E402
 
 from trcopt import Arc, Line, Plane, Role, Segment, SourceSpan  # noqa: E402
 from trcopt.config import Machine  # noqa: E402
-from trcopt.nc.model import Side  # noqa: E402
+from trcopt.modes import Side  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 from trcopt.timing.doubles import double_s_polyline_time  # noqa: E402
 from trcopt.timing.jerk import jerk_limited  # noqa: E402
@@ -224,11 +224,11 @@ def module_path(
     objective: str = "curvature",
     machine: Machine = ISO,
 ) -> list[Segment] | None:
-    """Transitions from ``trcopt.optimize.corners.blend_corners`` (``mode="optimal"``: G2 quintics,
+    """Transitions from ``trcopt.optimize.corners.blend.blend_corners`` (``mode="optimal"``: G2 quintics,
     least peak curvature or, with ``objective="jerk"``, least curvature-rate cost under ``machine``'s
     jerk limit; ``"arc"``: same-ε circular blends, ε measured on the cut part); None when no corner
     could be blended."""
-    from trcopt.optimize.corners import blend_corners
+    from trcopt.optimize.corners.blend import blend_corners
 
     prog_pts = programmed_polygon(pts)
     prog = [
@@ -244,7 +244,7 @@ def module_path(
 
 
 def optimal_path(pts: list[tuple[float, float]], eps: float, feed: float) -> list[Segment] | None:
-    """Optimal (G2) transitions from ``trcopt.optimize.corners`` or None."""
+    """Optimal (G2) transitions from ``trcopt.optimize.corners.blend`` or None."""
     return module_path(pts, eps, feed, "optimal")
 
 

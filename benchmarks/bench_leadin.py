@@ -17,11 +17,11 @@ import sys
 import time
 from pathlib import Path
 
+from trcopt.cli.leadin import lead_inputs_from_plan
 from trcopt.config import DEFAULT_MACHINE
 from trcopt.errors import TrcoptError
-from trcopt.optimize.cli import lead_inputs_from_plan
-from trcopt.optimize.lead_io import compare_with_sar
-from trcopt.optimize.leadin import optimal_lead
+from trcopt.optimize.leads.leadin import optimal_lead
+from trcopt.optimize.leads.report import compare_with_sar
 from trcopt.pipeline import PlanOptions, plan_file
 
 ROOT = Path(__file__).resolve().parents[1] / "problems"

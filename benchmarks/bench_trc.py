@@ -30,7 +30,8 @@ from trcopt.compensation.elements import make_programmed_geometry
 from trcopt.config import TrcSettings
 from trcopt.errors import SourceSpan
 from trcopt.geometry import Plane
-from trcopt.nc.model import CompState, Move, MoveKind, Side
+from trcopt.modes import Side
+from trcopt.nc.model import CompState, Move, MoveKind
 
 RADIUS = 2.0
 PERIOD = [  # (kind, dx, dy, centre offset from start or None)

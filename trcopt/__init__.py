@@ -9,8 +9,8 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-from .config import DEFAULT_MACHINE, AxisLimits, Machine, Tolerances, TrcSettings, load_machine
-from .errors import (
+from trcopt.config import DEFAULT_MACHINE, AxisLimits, Machine, Tolerances, TrcSettings, load_machine
+from trcopt.errors import (
     AlarmError,
     ConfigError,
     Diagnostic,
@@ -23,8 +23,37 @@ from .errors import (
     TimingError,
     TrcoptError,
 )
-from .geometry import Arc, Line, Plane, Poly
-from .path import Role, Segment
+from trcopt.geometry import Arc, Line, Plane, Poly
+from trcopt.modes import Side
+from trcopt.path import Role, Segment
+
+# The stages load on first use (PEP 562), so ``import trcopt`` loads no numerical library.
+_LAZY = {
+    "plan": "trcopt.pipeline",
+    "plan_file": "trcopt.pipeline",
+    "PlanOptions": "trcopt.pipeline",
+    "PlanResult": "trcopt.pipeline",
+    "read_program": "trcopt.controllers",
+    "compensate": "trcopt.compensation",
+    "time_parameterize": "trcopt.timing",
+    "Trajectory": "trcopt.timing",
+}
+
+
+def __getattr__(name: str) -> object:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'trcopt' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 __all__ = [
     "__version__",
@@ -44,6 +73,7 @@ __all__ = [
     "Role",
     "Segment",
     "Severity",
+    "Side",
     "SolverError",
     "SourceSpan",
     "TimingError",
@@ -51,4 +81,5 @@ __all__ = [
     "TrcSettings",
     "TrcoptError",
     "load_machine",
+    *_LAZY,
 ]

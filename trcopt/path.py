@@ -9,14 +9,14 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, replace
 
-from .errors import SourceSpan
-from .geometry.plane import Plane
-from .geometry.poly import Poly
-from .geometry.primitives import Arc, Line
-from .nc.model import Side
-from .units import mm_s_to_mm_min
+from trcopt.errors import SourceSpan
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec3
+from trcopt.modes import Side
+from trcopt.units import mm_s_to_mm_min
 
-Vec3 = tuple[float, float, float]
 Geometry = Line | Arc | Poly
 
 __all__ = ["Role", "Segment", "Geometry", "segments_length"]

@@ -10,17 +10,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .compensation import compensate, programmed_segment
-from .config import DEFAULT_MACHINE, Machine, TrcSettings
-from .errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from .nc.model import NcProgram
-from .path import Segment, segments_length
-from .sar import expand_sar
+from trcopt.compensation import programmed_segment
+from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
+from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
+from trcopt.modes import CornerTransition, ToolUnit, parse_enum
+from trcopt.nc.model import NcProgram
+from trcopt.path import Segment, segments_length
 
-__all__ = ["PlanOptions", "PlanResult", "plan", "plan_file", "DIALECTS"]
+__all__ = ["PlanOptions", "PlanResult", "plan", "plan_file"]
 
-DIALECTS = ("auto", "siemens", "heidenhain", "rs274")
-PROFILES = ("auto", "siemens", "heidenhain", "linuxcnc")
+AUTO = "auto"
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,10 +29,12 @@ class PlanOptions:
     Parameters
     ----------
     dialect:
-        ``auto`` (from the file name and contents), ``siemens``, ``heidenhain`` or ``rs274``.
+        ``auto`` (from the file name and contents, :func:`trcopt.controllers.detect`) or the
+        controller or dialect name whose reader reads the program (``siemens``, ``heidenhain``,
+        ``rs274``/``linuxcnc``; :func:`trcopt.controllers.names`).
     profile:
-        Compensation semantics: ``siemens``, ``heidenhain`` or ``linuxcnc``; ``auto`` follows
-        the dialect (rs274 → linuxcnc).
+        Compensation semantics: a controller name (``siemens``, ``heidenhain``, ``linuxcnc``);
+        ``auto`` is the reading controller's own.
     settings:
         Compensation machine data and tolerances.
     machine:
@@ -70,11 +71,16 @@ class PlanOptions:
     verify: bool = True
     strict: bool = False
     tool_table: str | None = None
-    tool_unit: str = "inch"
-    corners: str = "exact"
+    tool_unit: ToolUnit = ToolUnit.INCH
+    corners: CornerTransition = CornerTransition.EXACT
     tolerance_mm: float = 0.01
     jerk: bool = False
     workers: int = 1
+
+    def __post_init__(self) -> None:
+        # strings are accepted here, at the boundary, and become modes
+        object.__setattr__(self, "tool_unit", parse_enum(ToolUnit, self.tool_unit, "tool unit"))
+        object.__setattr__(self, "corners", parse_enum(CornerTransition, self.corners, "corner mode"))
 
 
 @dataclass(slots=True)
@@ -117,7 +123,7 @@ class PlanResult:
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The plan JSON (design.md §3.1, schema ``trcopt.plan/1``); ``samples`` names the CSV
         feed profile written beside it, if any."""
-        from .io.plan_json import plan_json
+        from trcopt.io.plan_json import plan_json
 
         toolpath = self.toolpath
         timing_json = None
@@ -173,19 +179,15 @@ def plan(
 
     Never raises for a problem in the program: alarms are diagnostics and the paths stop there.
     """
-    from .nc import detect_dialect, read_program
+    from trcopt import controllers
 
     opts = options or PlanOptions()
     settings = opts.settings if not opts.strict else opts.settings.with_(strict=True)
-    dialect = opts.dialect
-    if dialect not in DIALECTS:
-        raise TrcoptError(f"unknown dialect {dialect!r}; valid: {', '.join(DIALECTS)}", code="USAGE")
-    if dialect == "auto":
-        dialect = detect_dialect(source, file)
-    nc = read_program(
+    reader = controllers.detect(file, source) if opts.dialect == AUTO else _controller(opts.dialect, "dialect")
+    nc = controllers.read_program(
         source,
         file=file,
-        dialect=dialect,
+        dialect=reader.name,
         tolerances=settings.tolerances,
         max_disc=settings.cutcom_max_disc,
         tool_table=opts.tool_table,
@@ -195,38 +197,24 @@ def plan(
     tol = settings.tolerances.coincidence_mm
     front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
     trc_diags: list[Diagnostic] = []
-    moves = list(expand_sar(nc.moves, settings, trc_diags))
+    moves = list(nc.moves if reader.leads is None else reader.leads(nc.moves, settings, trc_diags))
     programmed = [s for s in (programmed_segment(m, tol) for m in moves) if s is not None]
     front_end_ok = front_end_ok and not any(d.severity is Severity.ERROR for d in trc_diags)
-    profile = opts.profile
-    if profile not in PROFILES:
-        raise TrcoptError(f"unknown profile {profile!r}; valid: {', '.join(PROFILES)}", code="USAGE")
-    if profile == "auto":
-        profile = {"rs274": "linuxcnc", "heidenhain": "heidenhain"}.get(dialect, "siemens")
-    if profile == "linuxcnc":
-        from .compensation.linuxcnc import compensate_linuxcnc
-
-        toolpath = list(compensate_linuxcnc(moves, settings, trc_diags, complete=front_end_ok))
-    elif profile == "heidenhain":
-        from .compensation.profiles import compensate_with_profile, profile_for
-
-        toolpath = list(
-            compensate_with_profile(moves, profile_for("heidenhain"), settings, trc_diags, complete=front_end_ok)
-        )
-    else:
-        toolpath = list(compensate(moves, settings, trc_diags, complete=front_end_ok))
+    # the compensation semantics: the reader's controller unless another profile is asked for
+    profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
+    toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
-    result = PlanResult(file, dialect, nc, programmed, toolpath, diagnostics)
-    result.extra["profile"] = profile
+    result = PlanResult(file, reader.dialect, nc, programmed, toolpath, diagnostics)
+    result.extra["profile"] = profile.name
     _attach_toolholder(result)
     if opts.verify:
-        from .optimize.verify import verify_plan
+        from trcopt.verify.plan import verify_plan
 
         result.verification = verify_plan(programmed, toolpath, moves, settings)
         result.extra["verification"] = result.verification.to_json()
-    if opts.corners != "exact" and toolpath and result.ok:
-        from .optimize.corners import blend_corners
+    if opts.corners is not CornerTransition.EXACT and toolpath and result.ok:
+        from trcopt.optimize.corners.blend import blend_corners
 
         objective = "jerk" if opts.jerk and _has_xy_jerk(opts.machine) else "curvature"
         blended = blend_corners(
@@ -245,9 +233,9 @@ def plan(
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
-            "mode": opts.corners,
+            "mode": opts.corners.value,
             "tolerance_mm": opts.tolerance_mm,
-            "objective": objective if opts.corners == "optimal" else None,
+            "objective": objective if opts.corners is CornerTransition.OPTIMAL else None,
             "blended": blended.blended,
             "quintic": blended.count("quintic"),
             "spline": blended.count("spline"),
@@ -258,6 +246,16 @@ def plan(
     if opts.timing and toolpath:
         _attach_timing(result, opts.machine, jerk=opts.jerk, workers=opts.workers)
     return result
+
+
+def _controller(name: str, what: str):  # type: ignore[no-untyped-def]
+    """The registered controller called ``name``; an unknown name is a usage error."""
+    from trcopt import controllers
+
+    try:
+        return controllers.get(name)
+    except ValueError as exc:
+        raise TrcoptError(f"--{what}: {exc}", code="USAGE") from None
 
 
 def _has_xy_jerk(machine: Machine) -> bool:
@@ -271,7 +269,7 @@ def _attach_toolholder(result: PlanResult) -> None:
     events = result.nc.extras.get("toolholder_events") or []
     if not carriers and not events:
         return
-    from .kinematics import evaluate_toolholder
+    from trcopt.kinematics import evaluate_toolholder
 
     report, diags = evaluate_toolholder(carriers, events, result.program)  # type: ignore[arg-type]
     result.extra["toolholder"] = report
@@ -284,7 +282,7 @@ JERK_CHECK_DT_S = 2e-4  # sampling of the limit check of a jerk-limited feed
 
 def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, workers: int = 1) -> None:
     try:
-        from .timing import time_parameterize
+        from trcopt.timing import time_parameterize
     except ImportError:  # the timing stage is optional at this layer
         return
     try:
@@ -293,7 +291,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
         _timing_warning(result, exc, "timing not computed")
         return
     if jerk:
-        from .timing.jerk import jerk_limited
+        from trcopt.timing.jerk import jerk_limited
 
         try:
             result.timing = jerk_limited(result.toolpath, machine, base=result.timing, workers=workers)
@@ -303,7 +301,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
         # never silently wrong: the profile is re-checked against every limit
         rep = result.timing.check_limits(dt=JERK_CHECK_DT_S)
         if not rep.ok:
-            from .errors import TimingError
+            from trcopt.errors import TimingError
 
             msg = (
                 f"the jerk-limited feed exceeds a limit: jerk measure {max(rep.jerk_ratio):.4f}, "

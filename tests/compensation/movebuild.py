@@ -6,7 +6,8 @@ from dataclasses import replace
 
 from trcopt.errors import SourceSpan
 from trcopt.geometry.plane import Plane
-from trcopt.nc.model import CompState, Move, MoveKind, Side
+from trcopt.modes import Side
+from trcopt.nc.model import CompState, Move, MoveKind
 
 
 def build(steps, start=(0.0, 0.0, 0.0), comp=None, feed=10.0):

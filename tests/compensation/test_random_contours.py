@@ -16,7 +16,7 @@ from gouge import gouges  # noqa: E402
 from movebuild import LEFT, OFF, RIGHT, build  # noqa: E402
 
 from trcopt.compensation import compensate, programmed_segment  # noqa: E402
-from trcopt.nc.model import CollisionMode, CornerMode  # noqa: E402
+from trcopt.modes import CollisionMode, CornerMode  # noqa: E402
 
 
 @st.composite

@@ -8,10 +8,19 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from trcopt import controllers
 from trcopt.errors import SourceSpan, TrcoptError
 from trcopt.geometry import Arc, Line, Plane, hermite_curve
-from trcopt.io.gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
+from trcopt.io.gcode import GcodeError, check_gcode_arcs
+from trcopt.io.gcode import toolpath_to_gcode as _to_gcode
 from trcopt.path import Role, Segment
+
+SIEMENS, LINUXCNC = controllers.get("siemens").gcode, controllers.get("linuxcnc").gcode
+
+
+def toolpath_to_gcode(segments, flavor=SIEMENS, **kw):
+    """The writer with the SINUMERIK flavour unless another is given."""
+    return _to_gcode(segments, flavor=flavor, **kw)
 
 
 def span(block: str | None, line: int) -> SourceSpan:
@@ -59,7 +68,7 @@ def test_square_with_corner_arc_siemens_exact_blocks():
 
 
 def test_square_with_corner_arc_rs274_exact_blocks():
-    text = toolpath_to_gcode(square_corner(), flavor="rs274", program_name="sq (v2).ngc")
+    text = toolpath_to_gcode(square_corner(), flavor=LINUXCNC, program_name="sq (v2).ngc")
     lines = text.splitlines()
     assert lines[0] == "(trcopt tool-centre path of sq [v2].ngc)"
     assert body(text) == [
@@ -104,7 +113,7 @@ def test_g18_arc_and_helix_with_centre_words_of_the_plane():
 def test_g19_arc_centre_words_j_k():
     # G19: u = Y, v = Z. CCW quarter from Y5 Z0 to Y0 Z5 about (Y0, Z0).
     arc = Arc((0.0, 0.0), 5.0, 0.0, math.pi / 2, 3.0, 3.0)
-    text = toolpath_to_gcode([seg(arc, plane=Plane.G19, block=None, line=7)], flavor="rs274")
+    text = toolpath_to_gcode([seg(arc, plane=Plane.G19, block=None, line=7)], flavor=LINUXCNC)
     assert "G3 Y0.0 Z5.0 J-5.0 K0.0 F600.0 (L7 contour)" in text
     assert "G21 G90 G94 G91.1 G40 G19" in text
 
@@ -173,7 +182,7 @@ def test_tiny_arc_is_not_written_as_full_circle():
 
 
 def test_invalid_options_name_the_valid_ones():
-    with pytest.raises(GcodeError, match="siemens, rs274"):
+    with pytest.raises(GcodeError, match="GcodeFlavor"):
         toolpath_to_gcode([], flavor="fanuc")
     with pytest.raises(TrcoptError):
         toolpath_to_gcode([], decimals=9)
@@ -195,7 +204,7 @@ def awkward_arcs(draw):
     dw = draw(st.sampled_from((0.0, 0.0, -1.2345678)))
     plane = draw(st.sampled_from(list(Plane)))
     decimals = draw(st.sampled_from((2, 3, 4)))
-    flavor = draw(st.sampled_from(("siemens", "rs274")))
+    flavor = draw(st.sampled_from((SIEMENS, LINUXCNC)))
     return Arc((cu, cv), radius, a0, sweep, 0.5, 0.5 + dw), plane, decimals, flavor
 
 

@@ -10,7 +10,7 @@ import pytest
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
 from trcopt.geometry import Arc, Line, Plane
 from trcopt.io.plan_json import CONTRACT_KEYS, PlanJsonError, dumps_plan, plan_json, write_plan_json
-from trcopt.nc.model import Side
+from trcopt.modes import Side
 from trcopt.path import Role, Segment
 
 SPAN = SourceSpan("problems/siemens/seed_g461.mpf", 6, 1, "N60")

@@ -15,7 +15,7 @@ from gouge import gouges  # noqa: E402
 
 from trcopt.cli import main  # noqa: E402
 from trcopt.geometry import Line, Poly  # noqa: E402
-from trcopt.optimize.corners import blend_corners  # noqa: E402
+from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
@@ -124,7 +124,7 @@ def test_cli_reports_spline_corners(tmp_path, capsys):
 
 
 def test_long_runs_are_split_into_splines_that_meet_mid_chord(outside, monkeypatch):
-    import trcopt.optimize.corners_chain as chain_mod
+    import trcopt.optimize.corners.chain as chain_mod
 
     r, whole = outside
     monkeypatch.setattr(chain_mod, "CHAIN_MAX_CORNERS", 7)

@@ -13,7 +13,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gouge import gouges  # noqa: E402
 
-from trcopt.optimize.corners import blend_corners  # noqa: E402
+from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
@@ -83,7 +83,7 @@ def test_outside_corners_of_small_deflection_keep_r_from_the_programmed_vertex()
 
 
 def test_per_corner_mix_is_timed_and_kept_only_when_faster(inside, monkeypatch):
-    import trcopt.optimize.corners as corners_mod
+    import trcopt.optimize.corners.blend as corners_mod
 
     # force a mix (odd corners G2, even circular) through the local estimate
     calls = iter(range(100))

@@ -15,8 +15,8 @@ from gouge import gouges  # noqa: E402
 from trcopt.cli import main  # noqa: E402
 from trcopt.config import DEFAULT_MACHINE, AxisLimits, Machine  # noqa: E402
 from trcopt.errors import ConfigError  # noqa: E402
-from trcopt.optimize.corners import blend_corners, find_corner_sites  # noqa: E402
-from trcopt.optimize.corners_qp import CornerBlendProblem  # noqa: E402
+from trcopt.optimize.corners.blend import blend_corners, find_corner_sites  # noqa: E402
+from trcopt.optimize.corners.qp import CornerBlendProblem  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.timing.jerk import jerk_limited  # noqa: E402
 
@@ -108,7 +108,7 @@ N60 M30
 @pytest.mark.parametrize("chains", [False, True])
 def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_objective(chains):
     from trcopt.geometry import Arc, Poly
-    from trcopt.optimize.corners import JUMP_SMOOTHED
+    from trcopt.optimize.corners.blend import JUMP_SMOOTHED
     from trcopt.path import Role
     from trcopt.pipeline import plan
 

@@ -18,9 +18,9 @@ from test_random_contours import _program, _simple_turning, contours  # noqa: E4
 
 from trcopt.compensation import compensate, programmed_segment  # noqa: E402
 from trcopt.geometry import Arc, Line, Poly  # noqa: E402
-from trcopt.optimize.corners import JUMP_SMOOTHED, blend_corners, cut_deviation  # noqa: E402
-from trcopt.optimize.corners_chain import KNOT_SIDE_LENGTHS, knot_length  # noqa: E402
-from trcopt.optimize.corners_qp import signed_curvature  # noqa: E402
+from trcopt.optimize.corners.blend import JUMP_SMOOTHED, blend_corners, cut_deviation  # noqa: E402
+from trcopt.optimize.corners.chain import KNOT_SIDE_LENGTHS, knot_length  # noqa: E402
+from trcopt.optimize.corners.qp import signed_curvature  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2] / "problems" / "corners"

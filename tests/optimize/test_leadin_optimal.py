@@ -11,11 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from trcopt.cli.leadin import add_arguments
 from trcopt.errors import SolverError
 from trcopt.geometry import Arc, Line, Poly
-from trcopt.optimize.cli import register
-from trcopt.optimize.lead_io import compare_with_sar, leadin_gcode, leadin_svg
-from trcopt.optimize.leadin import optimal_lead
+from trcopt.optimize.leads.leadin import optimal_lead
+from trcopt.optimize.leads.report import compare_with_sar, leadin_gcode, leadin_svg
 from trcopt.pipeline import PlanOptions, plan
 
 PROBLEMS = Path(__file__).resolve().parents[2] / "problems" / "siemens"
@@ -199,7 +199,7 @@ def test_explicit_moves_gcode_and_svg() -> None:
 
 def _parser():
     ap = argparse.ArgumentParser(prog="trcopt")
-    register(ap.add_subparsers())
+    add_arguments(ap.add_subparsers().add_parser("leadin"))
     return ap
 
 
@@ -218,7 +218,7 @@ def test_cli_leadin_writes_outputs(tmp_path, capsys) -> None:
             str(tmp_path / "l.svg"),
         ]
     )
-    assert args.func(args) == 0
+    assert args.handler(args) == 0
     out = capsys.readouterr().out
     assert "optimal lead" in out and "G147" in out and "G247" in out and "G347" in out
     data = json.loads((tmp_path / "l.json").read_text())
@@ -229,10 +229,10 @@ def test_cli_leadin_writes_outputs(tmp_path, capsys) -> None:
 def test_cli_leadin_errors(tmp_path, capsys) -> None:
     ap = _parser()
     args = ap.parse_args(["leadin", str(tmp_path / "missing.mpf")])
-    assert args.func(args) == 2
+    assert args.handler(args) == 2
     region = tmp_path / "r.txt"
     region.write_text("0 0\n1 0\n1 1\n0 1\n")
     args = ap.parse_args(["leadin", str(PROBLEMS / "ex02_square_g450.mpf"), "--region", str(region)])
-    assert args.func(args) == 1
+    assert args.handler(args) == 1
     err = capsys.readouterr().err
     assert "binding constraint 'region'" in err and "Traceback" not in err

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from trcopt import Arc, AxisLimits, ConfigError, Line, Machine, Plane, Role, Segment, SourceSpan, TimingError
-from trcopt.optimize.solution import SolveStatus
+from trcopt.solution import SolveStatus
 from trcopt.timing import time_parameterize
 from trcopt.timing.jerk import JerkTrajectory, jerk_limited
 from trcopt.timing.jerk_problem import JerkProblem

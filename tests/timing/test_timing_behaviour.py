@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from trcopt import DEFAULT_MACHINE, Arc, AxisLimits, Line, Machine, Plane, Poly, Role, Segment, SourceSpan, TimingError
 from trcopt.geometry import hermite_curve
-from trcopt.nc.model import Side
+from trcopt.modes import Side
 from trcopt.timing import time_parameterize
 
 ISO = Machine(

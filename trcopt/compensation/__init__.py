@@ -1,5 +1,5 @@
 """Tool radius compensation: the engine and its controller profiles."""
 
-from .engine import Compensator, compensate, programmed_segment
+from trcopt.compensation.engine import Compensator, compensate, programmed_segment
 
 __all__ = ["Compensator", "compensate", "programmed_segment"]

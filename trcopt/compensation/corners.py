@@ -13,15 +13,15 @@ import enum
 import math
 from dataclasses import dataclass, field
 
-from ..config import TrcSettings
-from ..geometry import vec
-from ..geometry.intersect import intersections
-from ..geometry.poly import conic_curve, hermite_curve
-from ..geometry.primitives import Arc, Line
-from ..geometry.vec import Vec2
-from ..nc.model import ApproachMode, CornerMode
-from ..path import Role
-from .elements import Elem, ElemKind, Piece
+from trcopt.compensation.elements import Elem, ElemKind, Piece
+from trcopt.config import TrcSettings
+from trcopt.geometry import vec
+from trcopt.geometry.intersect import intersections
+from trcopt.geometry.poly import conic_curve, hermite_curve
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec2
+from trcopt.modes import ApproachMode, CornerMode
+from trcopt.path import Role
 
 __all__ = ["JunctionKind", "Outside", "classify", "outside_corner", "transition_conic"]
 

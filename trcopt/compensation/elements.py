@@ -14,15 +14,15 @@ import enum
 import math
 from dataclasses import dataclass, field
 
-from ..errors import SourceSpan
-from ..geometry import vec
-from ..geometry.intersect import Hit, intersections
-from ..geometry.plane import Plane
-from ..geometry.poly import Poly, spiral_curve
-from ..geometry.primitives import Arc, Line
-from ..geometry.vec import Vec2
-from ..nc.model import CompState, Move, MoveKind
-from ..path import Geometry, Role
+from trcopt.errors import SourceSpan
+from trcopt.geometry import vec
+from trcopt.geometry.intersect import Hit, intersections
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.poly import Poly, spiral_curve
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec2
+from trcopt.nc.model import CompState, Move, MoveKind
+from trcopt.path import Geometry, Role
 
 __all__ = ["ElemKind", "Elem", "Piece", "make_programmed_geometry"]
 

@@ -16,16 +16,17 @@ import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
-from ..config import TrcSettings
-from ..errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
-from ..geometry import vec
-from ..geometry.intersect import intersections
-from ..geometry.primitives import Arc, Line
-from ..geometry.vec import Vec2
-from ..nc.model import ApproachMode, ApproachStrategy, CollisionMode, Move, MoveKind, Side
-from ..path import Role, Segment
-from . import corners as cn
-from .elements import Elem, ElemKind, Piece, make_programmed_geometry
+from trcopt.compensation import corners as cn
+from trcopt.compensation.elements import Elem, ElemKind, Piece, make_programmed_geometry
+from trcopt.config import TrcSettings
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.geometry import vec
+from trcopt.geometry.intersect import intersections
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec2
+from trcopt.modes import ApproachMode, ApproachStrategy, CollisionMode, Side
+from trcopt.nc.model import Move, MoveKind
+from trcopt.path import Role, Segment
 
 __all__ = ["compensate", "Compensator", "programmed_segment"]
 

@@ -1,61 +1,24 @@
-"""Controller profiles: how a dialect's compensation semantics map onto the shared engine.
+"""Controller profiles: a controller's compensation semantics as data over the shared engine.
 
-The engine (:mod:`.engine`) implements the SINUMERIK rules. A profile says, as data, which of its
-modes a controller uses and how the engine's alarms read in that controller's words; the front end
-of the dialect sets the per-move modes (``CompState``) accordingly.
-
-Heidenhain Klartext (spec ``heidenhain_trc.md``):
-
-========================  ===================================================================
-Klartext                  engine
-========================  ===================================================================
-RL / RR / R0              ``Side.LEFT`` / ``Side.RIGHT`` / ``Side.OFF``; r = R + DR_TAB + DR_CALL
-switch on (L/LP RL)       selection block, ``ApproachMode.NORM`` (ends perpendicular to the
-                          next element, spec R3)
-switch off (L R0, DEP)    deselection block (starts perpendicular to the last element)
-outside corner            ``CornerMode.TRANSITION_CIRCLE`` at every deflection (no curve-insert
-                          limit: ``cutcom_curve_insert_limit_deg = 0``)
-M97                       ``CornerMode.INTERSECTION`` on the block after the M97 block (the engine
-                          takes the corner mode from the block that starts at the corner), at any
-                          deflection (``cutcom_corner_limit_deg = 180``)
-inside corner             intersection (engine default)
-collision checking        ``CollisionMode.CDOF``; no block omission: a bottleneck is an error
-"Tool radius too large"   engine alarms 10751, 10758, 10763 and the CDOF contour-violation
-                          warning all mean the offset path cannot exist → ``E_TOOL_RADIUS_TOO_LARGE``
-R+ / R−                   not TRC: the front end lengthens/shortens the paraxial move itself
-APPR / DEP                lead geometry from :mod:`trcopt.sar.heidenhain`; the front end hands the
-                          engine contour-level lead arcs and tool-centre lead lines (``origin``)
-========================  ===================================================================
-
-The Heidenhain front end also checks "tool radius too large" on the contour itself, so a program
-stops at that block whatever settings the pipeline passes. :func:`compensate_with_profile` is the
-profile-aware entry point for callers that know the dialect (see the module's ``profile_for``).
+The engine (:mod:`trcopt.compensation.engine`) implements the SINUMERIK rules. A
+:class:`ControllerProfile` overrides some of its settings and says how the engine's alarms read in
+the controller's words; the controller's reader sets the per-move modes (``CompState``) itself.
+:func:`compensate_with_profile` runs the engine under a profile. Each controller that uses one
+defines it in its own folder (``trcopt.controllers.heidenhain.profile``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
-from types import MappingProxyType
 
-from ..config import TrcSettings
-from ..errors import Diagnostic, Severity
-from ..nc.model import ApproachMode, CollisionMode, CornerMode, Move
-from ..path import Segment
-from .engine import compensate
+from trcopt.compensation.engine import compensate
+from trcopt.config import TrcSettings
+from trcopt.errors import Diagnostic, Severity
+from trcopt.nc.model import Move
+from trcopt.path import Segment
 
-__all__ = [
-    "ControllerProfile",
-    "SIEMENS",
-    "HEIDENHAIN",
-    "PROFILES",
-    "profile_for",
-    "map_diagnostic",
-    "compensate_with_profile",
-    "TOOL_RADIUS_TOO_LARGE",
-]
-
-TOOL_RADIUS_TOO_LARGE = "Tool radius too large"
+__all__ = ["ControllerProfile", "map_diagnostic", "compensate_with_profile"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,79 +28,20 @@ class ControllerProfile:
     Parameters
     ----------
     name:
-        Dialect name.
-    outside_corner, m97_corner:
-        Corner mode of an ordinary outside corner and of one whose block carries M97.
-    approach, collision:
-        Approach mode of the selection block and collision mode in force.
+        Controller name.
     settings:
         Engine settings overridden by the profile (``TrcSettings`` field → value).
     alarms:
         Engine alarm number or code → (controller code, message, severity) for the controller.
-    appr_radius:
-        APPR/DEP CT/LCT radius reading (Heidenhain spec R9): ``"contour"`` or ``"centre"``.
     """
 
     name: str
-    outside_corner: CornerMode = CornerMode.TRANSITION_CIRCLE
-    m97_corner: CornerMode | None = None
-    approach: ApproachMode = ApproachMode.NORM
-    collision: CollisionMode = CollisionMode.CDOF
     settings: Mapping[str, object] = field(default_factory=dict)
     alarms: Mapping[str, tuple[str, str, Severity]] = field(default_factory=dict)
-    appr_radius: str = "contour"
 
     def engine_settings(self, base: TrcSettings | None = None) -> TrcSettings:
         """``base`` (default settings when omitted) with the profile's overrides."""
         return replace(base or TrcSettings(), **dict(self.settings))
-
-
-_TOO_LARGE = ("E_TOOL_RADIUS_TOO_LARGE", TOOL_RADIUS_TOO_LARGE, Severity.ERROR)
-
-SIEMENS = ControllerProfile("siemens")
-HEIDENHAIN = ControllerProfile(
-    "heidenhain",
-    m97_corner=CornerMode.INTERSECTION,
-    settings=MappingProxyType(
-        {"cutcom_curve_insert_limit_deg": 0.0, "cutcom_corner_limit_deg": 180.0, "strict": True}
-    ),
-    alarms=MappingProxyType(
-        {
-            "10751": _TOO_LARGE,
-            "10758": _TOO_LARGE,
-            "10763": _TOO_LARGE,
-            "TRC-CONTOUR-VIOLATION": _TOO_LARGE,
-            "TRC-SIDE-CHANGE": (
-                "E_TRC_SIDE_SWITCH",
-                "RL↔RR changed without an R0 block",
-                Severity.ERROR,
-            ),
-            "10753": (
-                "E_TRC_IN_CIRCLE",
-                "radius compensation switched on in a circle block",
-                Severity.ERROR,
-            ),
-            "10754": (
-                "E_TRC_IN_CIRCLE",
-                "radius compensation switched off in a circle block",
-                Severity.ERROR,
-            ),
-        }
-    ),
-)
-PROFILES: Mapping[str, ControllerProfile] = MappingProxyType(
-    {"siemens": SIEMENS, "heidenhain": HEIDENHAIN}
-)
-
-
-def profile_for(dialect: str) -> ControllerProfile:
-    """The profile of a dialect (``siemens``, ``heidenhain``); unknown names are rejected."""
-    try:
-        return PROFILES[dialect]
-    except KeyError:
-        raise ValueError(
-            f"no compensation profile for {dialect!r}; valid: {', '.join(PROFILES)}"
-        ) from None
 
 
 def map_diagnostic(profile: ControllerProfile, diag: Diagnostic) -> Diagnostic:

@@ -1,9 +1,9 @@
 """Exact plane geometry: lines, arcs/helices, polynomial curves, offsets and intersections."""
 
-from .intersect import Hit, bounded_intersections, intersections
-from .plane import Plane
-from .poly import Poly, conic_curve, hermite_curve, spiral_curve
-from .primitives import Arc, Element, Line
+from trcopt.geometry.intersect import Hit, bounded_intersections, intersections
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.poly import Poly, conic_curve, hermite_curve, spiral_curve
+from trcopt.geometry.primitives import Arc, Element, Line
 
 __all__ = [
     "Arc",

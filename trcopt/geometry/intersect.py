@@ -10,10 +10,10 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-from . import vec
-from .poly import Poly
-from .primitives import Arc, Line
-from .vec import Vec2
+from trcopt.geometry import vec
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec2
 
 __all__ = ["Hit", "intersections", "bounded_intersections"]
 

@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import enum
 
-Vec2 = tuple[float, float]
-Vec3 = tuple[float, float, float]
+from trcopt.geometry.vec import Vec3
 
 
 class Plane(enum.Enum):

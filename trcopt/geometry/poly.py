@@ -16,10 +16,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from . import vec
-from .vec import Vec2
-
-Vec3 = tuple[float, float, float]
+from trcopt.geometry import vec
+from trcopt.geometry.vec import Vec2, Vec3
 
 __all__ = ["Poly", "hermite_curve", "conic_curve", "spiral_curve", "parametric_curve"]
 

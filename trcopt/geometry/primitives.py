@@ -13,10 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
-from . import vec
-from .vec import TWO_PI, Vec2
-
-Vec3 = tuple[float, float, float]
+from trcopt.geometry import vec
+from trcopt.geometry.vec import TWO_PI, Vec2, Vec3
 
 __all__ = ["Element", "Line", "Arc", "Vec2", "Vec3"]
 

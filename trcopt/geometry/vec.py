@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 Vec2 = tuple[float, float]
+Vec3 = tuple[float, float, float]
 TWO_PI = 2.0 * math.pi
 
 

@@ -6,11 +6,11 @@ functions that need them.
 
 from __future__ import annotations
 
-from .atomic import OutputError, write_text_atomic
-from .dxf import write_dxf
-from .gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
-from .plan_json import PLAN_SCHEMA, PlanJsonError, dumps_plan, plan_json, write_plan_json
-from .svg import render_svg
+from trcopt.io.atomic import OutputError, write_text_atomic
+from trcopt.io.dxf import write_dxf
+from trcopt.io.gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
+from trcopt.io.plan_json import PLAN_SCHEMA, PlanJsonError, dumps_plan, plan_json, write_plan_json
+from trcopt.io.svg import render_svg
 
 __all__ = [
     "GcodeError",

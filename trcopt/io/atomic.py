@@ -10,7 +10,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from ..errors import TrcoptError
+from trcopt.errors import TrcoptError
 
 __all__ = ["OutputError", "write_text_atomic"]
 

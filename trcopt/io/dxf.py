@@ -13,12 +13,12 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..errors import TrcoptError
-from ..geometry.plane import Plane
-from ..geometry.poly import Poly
-from ..geometry.primitives import Arc, Line
-from ..path import Role, Segment
-from .atomic import write_text_atomic
+from trcopt.errors import TrcoptError
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.io.atomic import write_text_atomic
+from trcopt.path import Role, Segment
 
 __all__ = ["write_dxf", "DXF_LAYERS"]
 

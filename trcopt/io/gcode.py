@@ -22,19 +22,18 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from ..errors import TrcoptError
-from ..geometry.plane import Plane
-from ..geometry.poly import Poly
-from ..geometry.primitives import Arc, Line
-from ..path import Segment
-from ..units import mm_s_to_mm_min
+from trcopt.errors import TrcoptError
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec3
+from trcopt.path import Segment
+from trcopt.units import mm_s_to_mm_min
 
-__all__ = ["GcodeError", "toolpath_to_gcode", "check_gcode_arcs", "FLAVORS"]
+__all__ = ["GcodeError", "GcodeFlavor", "toolpath_to_gcode", "check_gcode_arcs"]
 
-FLAVORS = ("siemens", "rs274")
 MAX_DECIMALS = 6
 
-Vec3 = tuple[float, float, float]
 
 # centre word letter for each workpiece axis (x, y, z)
 _CENTRE_WORDS = ("I", "J", "K")
@@ -47,14 +46,50 @@ class GcodeError(TrcoptError, ValueError):
         super().__init__(message, None, code)
 
 
-def _fmt(value: float, decimals: int, flavor: str) -> str:
+@dataclass(frozen=True, slots=True)
+class GcodeFlavor:
+    """How one controller family writes plain G-code; each controller defines its own.
+
+    Parameters
+    ----------
+    name:
+        Name shown in messages (the controller's).
+    paren_comments:
+        Comments as ``( … )`` (RS274NGC; parentheses inside become brackets) instead of ``; …``.
+    block_numbers:
+        Number the blocks N10, N20, ….
+    decimal_point:
+        Every number keeps a decimal point (``5.0``; RS274NGC reads ``5`` as ``5.0`` too, but
+        the written form is unambiguous for every ISO reader).
+    preamble:
+        Modal words of the first block, before the plane word (units, absolute, feed per minute,
+        incremental arc centres, compensation off).
+    end:
+        The program end word.
+    """
+
+    name: str
+    paren_comments: bool
+    block_numbers: bool
+    decimal_point: bool
+    preamble: tuple[str, ...]
+    end: str
+
+    def comment(self, text: str) -> str:
+        """``text`` as one comment of this flavour."""
+        if self.paren_comments:
+            return f"({_rs274_comment_text(text)})"
+        return "; " + text.replace("\n", " ").replace("\r", " ")
+
+
+def _fmt(value: float, decimals: int, flavor: GcodeFlavor) -> str:
     """Fixed-point number without trailing zeros; RS274 keeps a decimal point (``5.0``)."""
     text = f"{value:.{decimals}f}"
     if "." in text:
         text = text.rstrip("0").rstrip(".")
     if text in ("-0", ""):
         text = "0"
-    if flavor == "rs274" and "." not in text:
+    if flavor.decimal_point and "." not in text:
         text += ".0"
     return text
 
@@ -71,7 +106,7 @@ def _rs274_comment_text(text: str) -> str:
 
 @dataclass
 class _Writer:
-    flavor: str
+    flavor: GcodeFlavor
     decimals: int
     tolerance: float
     lines: list[str]
@@ -82,13 +117,11 @@ class _Writer:
 
     # -- block assembly -------------------------------------------------------------------------
     def comment(self, text: str) -> str:
-        if self.flavor == "siemens":
-            return "; " + text.replace("\n", " ").replace("\r", " ")
-        return f"({_rs274_comment_text(text)})"
+        return self.flavor.comment(text)
 
     def emit(self, words: list[str], note: str | None = None) -> None:
         parts = list(words)
-        if self.flavor == "siemens":
+        if self.flavor.block_numbers:
             self.number += 10
             parts.insert(0, f"N{self.number}")
         line = " ".join(parts)
@@ -253,7 +286,7 @@ def _write_segment(w: _Writer, seg: Segment) -> None:
 def toolpath_to_gcode(
     segments: Iterable[Segment],
     *,
-    flavor: str = "siemens",
+    flavor: GcodeFlavor,
     decimals: int = 4,
     arc_tolerance_mm: float = 0.002,
     program_name: str = "trcopt",
@@ -265,8 +298,9 @@ def toolpath_to_gcode(
     segments:
         Tool-centre path in execution order (absolute workpiece coordinates, mm).
     flavor:
-        ``"siemens"`` (``;`` comments, N10/N20… block numbers, G71, M30) or ``"rs274"``
-        (LinuxCNC: parenthesised comments, G21, G91.1 incremental centres, M2).
+        The controller's flavour (``trcopt.controllers.get(name).gcode``): SINUMERIK writes ``;``
+        comments, N10/N20… block numbers, G71 and M30; LinuxCNC parenthesised comments, G21,
+        G91.1 incremental centres and M2.
     decimals:
         Decimals of coordinates (mm); arcs may get more (up to 6) when the rounded numbers would
         not describe a consistent arc.
@@ -281,8 +315,8 @@ def toolpath_to_gcode(
     str
         The program text, one block per line, ending with a newline.
     """
-    if flavor not in FLAVORS:
-        raise GcodeError(f"invalid G-code flavor {flavor!r}; valid: {', '.join(FLAVORS)}")
+    if not isinstance(flavor, GcodeFlavor):
+        raise GcodeError(f"invalid G-code flavor {flavor!r}: a GcodeFlavor (trcopt.controllers.get(name).gcode)")
     if not 0 <= int(decimals) <= MAX_DECIMALS:
         raise GcodeError(f"decimals must be in 0..{MAX_DECIMALS}, got {decimals}")
     if not arc_tolerance_mm > 0.0:
@@ -293,13 +327,10 @@ def toolpath_to_gcode(
     w.lines.append(w.comment("G40 only: coordinates are the tool centre, no radius compensation"))
     first = next((s for s in segs if isinstance(s.geometry, Arc)), segs[0] if segs else None)
     w.plane = first.plane if first is not None else Plane.G17
-    if flavor == "siemens":
-        w.emit(["G71", "G90", "G94", "G40", w.plane.value])
-    else:
-        w.emit(["G21", "G90", "G94", "G91.1", "G40", w.plane.value])
+    w.emit([*flavor.preamble, w.plane.value])
     for seg in segs:
         _write_segment(w, seg)
-    w.emit(["M30" if flavor == "siemens" else "M2"])
+    w.emit([flavor.end])
     return "\n".join(w.lines) + "\n"
 
 

@@ -14,9 +14,9 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from ..errors import Diagnostic, Severity, TrcoptError
-from ..path import Segment
-from .atomic import write_text_atomic
+from trcopt.errors import Diagnostic, Severity, TrcoptError
+from trcopt.io.atomic import write_text_atomic
+from trcopt.path import Segment
 
 __all__ = [
     "PLAN_SCHEMA",

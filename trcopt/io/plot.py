@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from ..path import Role, Segment
+from trcopt.path import Role, Segment
 
 __all__ = ["plot_paths"]
 

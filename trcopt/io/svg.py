@@ -12,14 +12,14 @@ import math
 from collections.abc import Iterable, Sequence
 from xml.sax.saxutils import escape, quoteattr
 
-from ..errors import Diagnostic, Severity
-from ..geometry.plane import Plane
-from ..geometry.primitives import Arc, Line
-from ..path import Role, Segment
+from trcopt.errors import Diagnostic, Severity
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.geometry.vec import Vec2
+from trcopt.path import Role, Segment
 
 __all__ = ["render_svg", "ROLE_COLOURS", "MAX_TOOL_CIRCLES"]
 
-Vec2 = tuple[float, float]
 
 MAX_TOOL_CIRCLES = 400
 PROGRAMMED_COLOUR = "#000000"

@@ -46,7 +46,7 @@ Readings of ``spec/toolholder.md`` where it is silent or ambiguous (its R-number
 
 from __future__ import annotations
 
-from .carrier import (
+from trcopt.kinematics.carrier import (
     ALARM_KINEMATIC_TYPE,
     Carrier,
     KinematicType,
@@ -54,7 +54,7 @@ from .carrier import (
     carrier_from_toml_dict,
     load_carrier_toml,
 )
-from .forward import (
+from trcopt.kinematics.forward import (
     ToolFamily,
     WearMode,
     initial_direction,
@@ -67,7 +67,7 @@ from .forward import (
     table_offset,
     tool_length_vector,
 )
-from .inverse import (
+from trcopt.kinematics.inverse import (
     AnglePair,
     InverseResult,
     OrientationWord,
@@ -83,7 +83,7 @@ from .inverse import (
     solve_orientation,
     tcoabs_angles,
 )
-from .program import evaluate_toolholder, scan_program
+from trcopt.kinematics.program import evaluate_toolholder, scan_program
 
 __all__ = [
     "ALARM_KINEMATIC_TYPE",

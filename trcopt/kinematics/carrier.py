@@ -48,7 +48,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.geometry.vec import Vec3
 
 __all__ = [
     "KinematicType",
@@ -60,7 +61,6 @@ __all__ = [
     "UNDEFINED_INDICES",
 ]
 
-Vec3 = tuple[float, float, float]
 
 #: SINUMERIK alarm for an invalid ``$TC_CARR23`` (kinematic type).
 ALARM_KINEMATIC_TYPE = 14153

@@ -19,8 +19,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..geometry.plane import Plane
-from .carrier import Carrier, KinematicType
+from trcopt.geometry.plane import Plane
+from trcopt.kinematics.carrier import Carrier, KinematicType
 
 __all__ = [
     "ToolFamily",

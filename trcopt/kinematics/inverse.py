@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import AlarmError, Diagnostic, Severity, SourceSpan
-from .carrier import Carrier, KinematicType
-from .forward import relative_direction, rotation, rpy_matrix
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan
+from trcopt.kinematics.carrier import Carrier, KinematicType
+from trcopt.kinematics.forward import relative_direction, rotation, rpy_matrix
 
 __all__ = [
     "SolutionKind",

@@ -29,10 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import AlarmError, Diagnostic, Severity, SourceSpan
-from ..geometry.plane import Plane
-from .carrier import Carrier, carrier_from_assignments
-from .forward import (
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan
+from trcopt.geometry.plane import Plane
+from trcopt.kinematics.carrier import Carrier, carrier_from_assignments
+from trcopt.kinematics.forward import (
     ToolFamily,
     initial_direction,
     relative_direction,
@@ -41,7 +41,7 @@ from .forward import (
     table_offset,
     tool_length_vector,
 )
-from .inverse import OrientationWord, Selection, solve_orientation, tcoabs_angles
+from trcopt.kinematics.inverse import OrientationWord, Selection, solve_orientation, tcoabs_angles
 
 __all__ = ["evaluate_toolholder", "scan_program"]
 

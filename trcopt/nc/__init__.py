@@ -1,40 +1,26 @@
-"""NC front end: lexer, dialects, and the modal interpreter producing canonical moves."""
+"""The dialect-neutral layer of the NC front end.
 
-from .model import (
-    ApproachMode,
-    ApproachStrategy,
-    CollisionMode,
-    CompState,
-    CornerMode,
-    Move,
-    MoveKind,
-    NcProgram,
-    SarContour,
-    SarSegmentation,
-    SarSide,
-    SarSpec,
-    Side,
-)
+* :mod:`.model` — the canonical :class:`Move` and :class:`NcProgram` every controller's reader
+  produces (absolute mm, feeds in mm/s, the modal snapshot compensation needs, source spans);
+* :mod:`.modal` — the modal state shared by the readers and the closed-form helpers they must not
+  get wrong (arc centre from a radius, end-radius check);
+* :mod:`.tools` — tool edges and the tool table a program reads.
+
+Reading a program is the job of a controller: :func:`trcopt.controllers.read_program`.
+"""
+
+from trcopt.nc.modal import ModalState, ReadOptions
+from trcopt.nc.model import CompState, Move, MoveKind, NcProgram, SarSpec
+from trcopt.nc.tools import ToolEdge, ToolTable
 
 __all__ = [
-    "ApproachMode",
-    "ApproachStrategy",
-    "CollisionMode",
     "CompState",
-    "CornerMode",
+    "ModalState",
     "Move",
     "MoveKind",
     "NcProgram",
-    "SarContour",
-    "SarSegmentation",
-    "SarSide",
+    "ReadOptions",
     "SarSpec",
-    "Side",
+    "ToolEdge",
+    "ToolTable",
 ]
-
-# --- NC front end: reading programs (lexer, dialects, modal interpreter) ---
-from .dialects import detect_dialect  # noqa: E402
-from .interpret import ReadOptions, read_program  # noqa: E402
-from .tools import ToolEdge, ToolTable  # noqa: E402
-
-__all__ += ["ReadOptions", "ToolEdge", "ToolTable", "detect_dialect", "read_program"]

@@ -10,39 +10,21 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
-from ..errors import Diagnostic, SourceSpan
-from ..geometry.plane import Plane
+from trcopt.errors import Diagnostic, SourceSpan
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.vec import Vec3
+from trcopt.modes import (
+    ApproachMode,
+    ApproachStrategy,
+    CollisionMode,
+    CornerMode,
+    SarContour,
+    SarSegmentation,
+    SarSide,
+    Side,
+)
 
-Vec3 = tuple[float, float, float]
-
-__all__ = [
-    "MoveKind",
-    "Side",
-    "CornerMode",
-    "ApproachMode",
-    "CollisionMode",
-    "ApproachStrategy",
-    "SarContour",
-    "SarSide",
-    "SarSegmentation",
-    "SarSpec",
-    "CompState",
-    "Move",
-    "NcProgram",
-    "parse_enum",
-]
-
-
-def parse_enum(cls: type[enum.Enum], value: object) -> enum.Enum:
-    """Accept an enum member, its name or its value (case-insensitive); reject with the options."""
-    if isinstance(value, cls):
-        return value
-    text = str(value).strip()
-    for member in cls:
-        if text.upper() in (member.name.upper(), str(member.value).upper()):
-            return member
-    options = ", ".join(str(m.value) for m in cls)
-    raise ValueError(f"invalid {cls.__name__} {value!r}; valid: {options}")
+__all__ = ["MoveKind", "SarSpec", "CompState", "Move", "NcProgram"]
 
 
 class MoveKind(enum.Enum):
@@ -50,70 +32,6 @@ class MoveKind(enum.Enum):
     LINE = "line"  # G1
     ARC = "arc"  # G2/G3 (helix when the applicate changes)
     NONE = "none"  # a block without axis motion (M functions, tool data, ...)
-
-
-class Side(enum.Enum):
-    """Compensation side: OFF = G40/R0, LEFT = G41/RL (tool left of travel), RIGHT = G42/RR."""
-
-    OFF = "off"
-    LEFT = "left"
-    RIGHT = "right"
-
-    @property
-    def sign(self) -> int:
-        return _SIDE_SIGN[self.value]
-
-
-_SIDE_SIGN = {"off": 0, "left": 1, "right": -1}
-
-
-class CornerMode(enum.Enum):
-    TRANSITION_CIRCLE = "G450"
-    INTERSECTION = "G451"
-
-
-class ApproachMode(enum.Enum):
-    NORM = "NORM"
-    KONT = "KONT"
-    KONTT = "KONTT"
-    KONTC = "KONTC"
-
-
-class CollisionMode(enum.Enum):
-    CDOF = "CDOF"
-    CDON = "CDON"
-    CDOF2 = "CDOF2"
-
-
-class ApproachStrategy(enum.Enum):
-    G460 = "G460"
-    G461 = "G461"
-    G462 = "G462"
-
-
-class SarContour(enum.Enum):
-    G147 = "G147"  # approach, straight line
-    G148 = "G148"  # retract, straight line
-    G247 = "G247"  # approach, quadrant
-    G248 = "G248"  # retract, quadrant
-    G347 = "G347"  # approach, semicircle
-    G348 = "G348"  # retract, semicircle
-
-    @property
-    def is_approach(self) -> bool:
-        return self.value.endswith("7")
-
-
-class SarSide(enum.Enum):
-    G140 = "G140"
-    G141 = "G141"
-    G142 = "G142"
-    G143 = "G143"
-
-
-class SarSegmentation(enum.Enum):
-    G340 = "G340"
-    G341 = "G341"
 
 
 @dataclass(frozen=True, slots=True)

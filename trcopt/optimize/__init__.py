@@ -1,43 +1,43 @@
-"""Optimisation: the constraint model, plan verification, SAR as a constrained problem, optimal leads.
+"""Optimisation problems on the tool-centre geometry: leads and corner transitions.
 
-* :func:`verify_plan` — per-family residuals of a planned path (radius, tangency, continuity,
-  no_reversal, clearance; lead_clearance informational);
-* :class:`SarProblem` — SINUMERIK SAR geometry as a ``casadi.Opti`` problem;
-* :func:`optimal_lead` — time-optimal lead-in under the constraint model; :func:`leadin_gcode`,
-  :func:`compare_with_sar`; :func:`optimal_lead_out` — the lead-out (the mirrored lead-in);
-* :func:`register` / :func:`run_leadin` — the ``trcopt leadin`` subcommand.
+* :mod:`trcopt.optimize.leads` — optimal lead-in/out (:func:`optimal_lead`,
+  :func:`optimal_lead_out`) and :class:`SarProblem`;
+* :mod:`trcopt.optimize.corners` — feed-optimised corner transitions (:func:`blend_corners`).
 
-CasADi is imported inside the functions that build problems, so importing this package is cheap.
+Every problem is an object that can be inspected before it is solved and returns a
+:class:`~trcopt.solution.Solution`. The constraint model they share lives in :mod:`trcopt.verify`.
+CasADi and OSQP are imported inside the functions that build problems, so importing this package
+is cheap.
 """
 
 from __future__ import annotations
 
-from .cli import register, run_leadin
-from .lead_io import Baseline, compare_with_sar, leadin_gcode, leadin_svg
-from .leadin import LeadCandidate, LeadResult, SarShape, optimal_lead
-from .leadout import LeadOutResult, optimal_lead_out
-from .sar_problem import SarGeometry, SarProblem
-from .solution import Solution, SolveStatus
-from .verify import FamilyResidual, VerificationReport, verify_plan
+from trcopt.optimize.leads import (
+    Baseline,
+    LeadCandidate,
+    LeadOutResult,
+    LeadResult,
+    SarGeometry,
+    SarProblem,
+    SarShape,
+    compare_with_sar,
+    leadin_gcode,
+    leadin_svg,
+    optimal_lead,
+    optimal_lead_out,
+)
 
 __all__ = [
     "Baseline",
-    "FamilyResidual",
     "LeadCandidate",
     "LeadOutResult",
     "LeadResult",
     "SarGeometry",
     "SarProblem",
     "SarShape",
-    "Solution",
-    "SolveStatus",
-    "VerificationReport",
     "compare_with_sar",
     "leadin_gcode",
     "leadin_svg",
     "optimal_lead",
     "optimal_lead_out",
-    "register",
-    "run_leadin",
-    "verify_plan",
 ]

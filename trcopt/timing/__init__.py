@@ -6,7 +6,7 @@ inside the functions that need them, so importing this package stays cheap.
 
 from __future__ import annotations
 
-from .solve import time_parameterize
-from .trajectory import LimitReport, Samples, TimedTrajectory
+from trcopt.timing.solve import time_parameterize
+from trcopt.timing.trajectory import LimitReport, Samples, TimedTrajectory
 
 __all__ = ["time_parameterize", "TimedTrajectory", "LimitReport", "Samples"]

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..config import Machine
+from trcopt.config import Machine
 
 __all__ = ["double_s_time", "line_limits", "double_s_line_time", "double_s_polyline_time"]
 

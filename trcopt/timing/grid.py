@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from .path import SegmentEval
+from trcopt.timing.path import SegmentEval
 
 RAMP_POINTS = 16.0
 GROWTH = 0.25

@@ -37,14 +37,14 @@ from typing import Any
 
 import numpy as np
 
-from ..config import DEFAULT_MACHINE, Machine
-from ..errors import ConfigError, TimingError
-from ..optimize.solution import Solution
-from ..path import Segment
-from .jerk_problem import JerkProblem, SectionProfile, path_derivatives, section_label
-from .path import PathArrays
-from .sections import Section, axis_limits, segment_feeds, split_sections
-from .trajectory import Samples, TimedTrajectory, sample_times
+from trcopt.config import DEFAULT_MACHINE, Machine
+from trcopt.errors import ConfigError, TimingError
+from trcopt.path import Segment
+from trcopt.solution import Solution
+from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, path_derivatives, section_label
+from trcopt.timing.path import PathArrays
+from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_sections
+from trcopt.timing.trajectory import Samples, TimedTrajectory, sample_times
 
 __all__ = ["jerk_limited", "JerkTrajectory", "JerkLimitReport", "JerkSamples", "jerk_limits"]
 
@@ -136,7 +136,7 @@ class JerkTrajectory:
     """Jerk-limited feed along a tool path (build with :func:`jerk_limited`).
 
     Attributes: ``base`` (the acceleration-limited :class:`TimedTrajectory`), ``solutions`` (one
-    :class:`~trcopt.optimize.solution.Solution` per section: status, cost = section time s,
+    :class:`~trcopt.solution.Solution` per section: status, cost = section time s,
     iterations, solve time), ``cycle_s``, and per interval ``t0, s0, h, v0, a0, j, iseg``.
     """
 
@@ -397,7 +397,7 @@ class JerkTrajectory:
 
     def plot_speed(self, path: str | Path | None = None, ax: Any = None) -> Any:
         """Speed over s and over the path (matplotlib, imported lazily)."""
-        from .report import plot_speed
+        from trcopt.timing.report import plot_speed
 
         return plot_speed(self, path, ax)  # type: ignore[arg-type]
 
@@ -447,7 +447,7 @@ def jerk_limited(
     ConfigError
         The machine has no jerk limit on some axis.
     """
-    from .solve import time_parameterize
+    from trcopt.timing.solve import time_parameterize
 
     segments = list(toolpath)
     if not segments:

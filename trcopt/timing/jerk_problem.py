@@ -40,11 +40,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import TimingError
-from ..geometry.poly import Poly
-from ..optimize.solution import Solution, SolveStatus
-from .path import PathArrays
-from .sections import Section
+from trcopt.errors import TimingError
+from trcopt.geometry.poly import Poly
+from trcopt.solution import Solution, SolveStatus
+from trcopt.timing.path import PathArrays
+from trcopt.timing.sections import Section
 
 __all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
 
@@ -469,7 +469,7 @@ class JerkProblem:
         return dict(self._vars)
 
     def solve(self) -> Solution[SectionProfile]:
-        """Solve with IPOPT (silent). Returns a :class:`~trcopt.optimize.solution.Solution`."""
+        """Solve with IPOPT (silent). Returns a :class:`~trcopt.solution.Solution`."""
         opti = self.build()
         t0 = time.perf_counter()
         try:

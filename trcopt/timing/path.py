@@ -19,9 +19,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..geometry.poly import Poly
-from ..geometry.primitives import Arc, Line
-from ..path import Segment
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.path import Segment
 
 __all__ = ["SegmentEval", "SectionPath"]
 

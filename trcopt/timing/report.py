@@ -12,10 +12,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .sections import axis_limits
+from trcopt.timing.sections import axis_limits
 
 if TYPE_CHECKING:
-    from .trajectory import LimitReport, Samples, TimedTrajectory
+    from trcopt.timing.trajectory import LimitReport, Samples, TimedTrajectory
 
 __all__ = ["check_limits", "timing_json", "write_csv", "plot_speed", "max_jerk", "binding_constraints"]
 
@@ -36,7 +36,7 @@ def _ratios(traj: TimedTrajectory, smp: Samples) -> tuple[np.ndarray, np.ndarray
 
 
 def check_limits(traj: TimedTrajectory, dt: float, tolerance: float) -> LimitReport:
-    from .trajectory import LimitReport
+    from trcopt.timing.trajectory import LimitReport
 
     if not traj.segments:
         return LimitReport(True, (0.0,) * 3, (0.0,) * 3, 0.0, 0.0, 0.0, tolerance, 0)

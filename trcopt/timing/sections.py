@@ -14,12 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import Machine
-from ..errors import TimingError
-from ..geometry.primitives import Arc
-from ..nc.model import Side
-from ..path import Role, Segment
-from .path import PathArrays
+from trcopt.config import Machine
+from trcopt.errors import TimingError
+from trcopt.geometry.primitives import Arc
+from trcopt.modes import Side
+from trcopt.path import Role, Segment
+from trcopt.timing.path import PathArrays
 
 __all__ = ["Section", "split_sections", "segment_feeds", "axis_limits", "TANGENT_TOL_RAD"]
 

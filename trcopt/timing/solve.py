@@ -14,14 +14,14 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from ..config import DEFAULT_MACHINE, Machine
-from ..path import Segment
-from .grid import segment_grid
-from .path import PathArrays
-from .reach import interval_rows, mvc_bound, pass_coefficients, solve_lockstep
-from .sections import Section, axis_limits, segment_feeds, split_sections
-from .toppra_engine import solve_section_toppra
-from .trajectory import TimedTrajectory
+from trcopt.config import DEFAULT_MACHINE, Machine
+from trcopt.path import Segment
+from trcopt.timing.grid import segment_grid
+from trcopt.timing.path import PathArrays
+from trcopt.timing.reach import interval_rows, mvc_bound, pass_coefficients, solve_lockstep
+from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_sections
+from trcopt.timing.toppra_engine import solve_section_toppra
+from trcopt.timing.trajectory import TimedTrajectory
 
 __all__ = ["time_parameterize", "ENGINES"]
 

@@ -14,11 +14,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..errors import TimingError
-from ..path import Segment
-from .grid import KNOT_EPS_MM, segment_grid
-from .path import SectionPath
-from .sections import Section
+from trcopt.errors import TimingError
+from trcopt.path import Segment
+from trcopt.timing.grid import KNOT_EPS_MM, segment_grid
+from trcopt.timing.path import SectionPath
+from trcopt.timing.sections import Section
 
 __all__ = ["section_grid_toppra", "solve_section_toppra", "CURVED_ACC_MARGIN"]
 

@@ -15,11 +15,11 @@ from typing import Any
 
 import numpy as np
 
-from ..config import Machine
-from ..errors import TimingError
-from ..path import Segment
-from .path import PathArrays
-from .sections import Section, axis_limits
+from trcopt.config import Machine
+from trcopt.errors import TimingError
+from trcopt.path import Segment
+from trcopt.timing.path import PathArrays
+from trcopt.timing.sections import Section, axis_limits
 
 __all__ = ["TimedTrajectory", "Samples", "LimitReport", "sample_times"]
 
@@ -247,25 +247,25 @@ class TimedTrajectory:
     # -- reports (see report.py) ----------------------------------------------------------------
     def check_limits(self, dt: float = 1e-4, tolerance: float = 1.001) -> LimitReport:
         """Per-axis v and a, feed and corner speeds at ``dt`` sampling and at every grid end."""
-        from .report import check_limits
+        from trcopt.timing.report import check_limits
 
         return check_limits(self, dt, tolerance)
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The ``timing`` object of the plan JSON (design.md §3.1)."""
-        from .report import timing_json
+        from trcopt.timing.report import timing_json
 
         return timing_json(self, samples)
 
     def write_csv(self, path: str | Path, dt: float = 1e-3) -> Path:
         """Write the feed profile (t, s, x, y, z, speed, v and a per axis, block) as CSV."""
-        from .report import write_csv
+        from trcopt.timing.report import write_csv
 
         return write_csv(self, Path(path), dt)
 
     def plot_speed(self, path: str | Path | None = None, ax: Any = None) -> Any:
         """Speed over s and over the path (matplotlib, imported here); saves to ``path`` if given."""
-        from .report import plot_speed
+        from trcopt.timing.report import plot_speed
 
         return plot_speed(self, path, ax)
 

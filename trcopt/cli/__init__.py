@@ -1,0 +1,87 @@
+"""Command line: ``trcopt COMMAND …``, subcommands from a lazy registry.
+
+Each subcommand lives in its own module with an ``add_arguments(parser)`` function that also sets
+the ``handler`` default. :data:`COMMANDS` names the module and the one-line help of each; a
+module is imported only when its command is run or asked for its help, so ``trcopt --help``
+loads none of the numerical stack. Adding a subcommand is one module plus one line here.
+
+Exit codes: 0 ok, 1 the program raised an alarm (outputs are still written, with the path up to
+the alarm), 2 usage or I/O error. No traceback reaches the user for a problem in their files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+from typing import NamedTuple
+
+from trcopt import __version__
+from trcopt.cli.common import EXIT_USAGE, err
+from trcopt.errors import TrcoptError
+
+__all__ = ["main", "build_parser", "COMMANDS", "Command"]
+
+
+class Command(NamedTuple):
+    """A subcommand: the module holding it, the name of its arguments function, its help line."""
+
+    module: str
+    arguments: str
+    help: str
+
+
+COMMANDS: dict[str, Command] = {
+    "plan": Command("trcopt.cli.plan", "add_arguments", "plan a part program: tool-centre path, outputs, cycle time"),
+    "check": Command("trcopt.cli.plan", "add_check_arguments", "read and compensate a program; print diagnostics only"),
+    "orient": Command("trcopt.cli.orient", "add_arguments", "solve a toolholder ($TC_CARR) for a tool orientation"),
+    "leadin": Command(
+        "trcopt.cli.leadin",
+        "add_arguments",
+        "optimal lead-in into the compensated contour, compared with G147/G247/G347",
+    ),
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]  # usage errors → exit 2, one line
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser; only ``command``'s module is imported to add its arguments (all when None)."""
+    parser = _Parser(prog="trcopt", description="Optimisation-based CNC toolpath planner.")
+    parser.add_argument("--version", action="version", version=f"trcopt {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, cmd in COMMANDS.items():
+        p = sub.add_parser(name, help=cmd.help)
+        if command is None or command == name:
+            getattr(importlib.import_module(cmd.module), cmd.arguments)(p)
+    return parser
+
+
+def _command(argv: Sequence[str]) -> str:
+    """The subcommand named in ``argv`` ("" when none): the first word that is not an option."""
+    return next((a for a in argv if not a.startswith("-")), "")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args_in = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(_command(args_in) or "")
+    args = parser.parse_args(args_in)
+    if not getattr(args, "handler", None):
+        parser.print_help()
+        return EXIT_USAGE
+    try:
+        return int(args.handler(args))
+    except TrcoptError as exc:
+        err(str(exc))
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,171 @@
+"""``trcopt plan PROGRAM`` and ``trcopt check PROGRAM``: the main job and its diagnostics-only form.
+
+Exit codes: 0 ok, 1 the program raised an alarm (outputs are still written, with the path up to
+the alarm), 2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from trcopt import controllers
+from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
+from trcopt.errors import Severity
+from trcopt.modes import CornerTransition, ToolUnit
+
+if TYPE_CHECKING:
+    from trcopt.pipeline import PlanOptions
+
+__all__ = ["add_arguments", "add_check_arguments", "run_plan", "run_check"]
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The arguments of ``trcopt plan``."""
+    p.add_argument("program", help="part program (.mpf/.spf Siemens, .h Heidenhain, .ngc RS274NGC)")
+    p.add_argument("--dialect", default="auto", choices=["auto", *controllers.dialects()])
+    p.add_argument(
+        "--profile", default="auto", choices=["auto", *controllers.names()],
+        help="compensation semantics of a controller (default: the reading controller's)",
+    )
+    p.add_argument("--machine", metavar="FILE.toml", help="machine limits (default: embedded machine)")
+    p.add_argument(
+        "--tool-table", metavar="F",
+        help="tool table: LinuxCNC .tbl (rs274) or TOML (heidenhain); default: beside the program",
+    )
+    p.add_argument(
+        "--tool-unit", default=ToolUnit.INCH.value, choices=[u.value for u in ToolUnit],
+        help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
+    )
+    p.add_argument("--json", metavar="F", help="write the plan JSON (schema trcopt.plan/1)")
+    p.add_argument("--gcode", metavar="F", help="write plain tool-centre G-code (G40 only)")
+    p.add_argument(
+        "--gcode-flavor", default=None, choices=sorted({*controllers.names(), *controllers.dialects()}),
+        help="G-code flavour of a controller (default: the reading controller's)",
+    )
+    p.add_argument("--decimals", type=int, default=4, help="decimals in the written G-code (default 4)")
+    p.add_argument("--svg", metavar="F", help="write an SVG picture of both paths")
+    p.add_argument("--csv", metavar="F", help="write the feed profile as CSV (needs timing)")
+    p.add_argument("--png", metavar="F", help="write a speed-profile picture (PNG or SVG by suffix)")
+    p.add_argument("--no-timing", action="store_true", help="skip the time parameterisation")
+    p.add_argument(
+        "--corners", default=CornerTransition.EXACT.value, choices=[m.value for m in CornerTransition],
+        help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
+    )
+    p.add_argument("--tolerance", type=float, default=0.01, help="contour tolerance for --corners, mm (default 0.01)")
+    p.add_argument(
+        "--jerk", action="store_true",
+        help="jerk-limited feed (needs jmax_mm_s3 on every machine axis; IPOPT per section, slower)",
+    )
+    p.add_argument(
+        "--workers", type=_workers, default=0,
+        help="processes for --corners optimal and --jerk (default 0: one per CPU core)",
+    )
+    p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
+    p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
+    p.set_defaults(handler=run_plan)
+
+
+def add_check_arguments(p: argparse.ArgumentParser) -> None:
+    """The arguments of ``trcopt check``."""
+    p.add_argument("program")
+    p.add_argument("--dialect", default="auto", choices=["auto", *controllers.dialects()])
+    p.add_argument("--strict", action="store_true")
+    p.set_defaults(handler=run_check)
+
+
+def _options(args: argparse.Namespace) -> PlanOptions:
+    from trcopt.config import DEFAULT_MACHINE, load_machine
+    from trcopt.pipeline import PlanOptions
+
+    machine = DEFAULT_MACHINE if not getattr(args, "machine", None) else load_machine(args.machine)
+    return PlanOptions(
+        dialect=args.dialect,
+        profile=getattr(args, "profile", "auto"),
+        machine=machine,
+        timing=not getattr(args, "no_timing", True),
+        strict=args.strict,
+        tool_table=getattr(args, "tool_table", None),
+        tool_unit=getattr(args, "tool_unit", "inch"),
+        corners=getattr(args, "corners", "exact"),
+        tolerance_mm=getattr(args, "tolerance", 0.01),
+        jerk=getattr(args, "jerk", False),
+        workers=getattr(args, "workers", 1),
+    )
+
+
+def _workers(text: str) -> int:
+    """``--workers`` value: a non-negative integer; 0 means one process per CPU core."""
+    import os
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 (one per CPU core) or positive, got {value}")
+    return value or os.cpu_count() or 1
+
+
+def _print_diagnostics(result) -> None:  # type: ignore[no-untyped-def]
+    for d in result.diagnostics:
+        stream = sys.stderr if d.severity is Severity.ERROR else sys.stdout
+        print(d.format(), file=stream)
+
+
+def run_check(args: argparse.Namespace) -> int:
+    from trcopt.pipeline import plan_file
+
+    opts = _options(args)
+    result = plan_file(args.program, opts)
+    _print_diagnostics(result)
+    return EXIT_OK if result.ok else EXIT_ALARM
+
+
+def run_plan(args: argparse.Namespace) -> int:
+    from trcopt.io import dumps_plan, toolpath_to_gcode, write_text_atomic
+    from trcopt.pipeline import plan_file
+
+    opts = _options(args)
+    result = plan_file(args.program, opts)
+    _print_diagnostics(result)
+    if not args.quiet:
+        print(result.summary())
+    flavor = controllers.get(args.gcode_flavor or result.dialect).gcode
+    # render everything first, then write: a failure never leaves some files half-written
+    outputs: list[tuple[str, Callable[[], str]]] = []
+    if args.json:
+        outputs.append((args.json, lambda: dumps_plan(result.to_json(samples=args.csv))))
+    if args.gcode:
+        outputs.append(
+            (
+                args.gcode,
+                lambda: toolpath_to_gcode(
+                    result.toolpath, flavor=flavor, decimals=args.decimals, program_name=Path(args.program).name
+                ),
+            )
+        )
+    if args.svg:
+        from trcopt.io.svg import render_svg
+
+        outputs.append(
+            (args.svg, lambda: render_svg(result.programmed, result.toolpath, result.diagnostics, title=args.program))
+        )
+    rendered = [(path, make()) for path, make in outputs]
+    for path, text in rendered:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        write_text_atomic(path, text)
+    if args.csv or args.png:
+        if result.timing is None:
+            err("--csv/--png need the timing stage (drop --no-timing; see the diagnostics above)")
+            return EXIT_USAGE
+        if args.csv:
+            result.timing.write_csv(args.csv)
+        if args.png:
+            result.timing.plot_speed(args.png)
+    return EXIT_OK if result.ok else EXIT_ALARM
+
+

@@ -1,0 +1,73 @@
+"""The :class:`Controller` record: everything the pipeline needs from one controller.
+
+A controller owns its language (the reader), its lead handling where the language has one as a
+separate pass (SINUMERIK SAR), its tool-table format (read inside the reader), its compensation
+semantics and its output flavour. The registry in :mod:`trcopt.controllers` is the only place
+that knows the controllers by name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+
+from trcopt.config import TrcSettings
+from trcopt.errors import Diagnostic
+from trcopt.io.gcode import GcodeFlavor
+from trcopt.nc.modal import ReadOptions
+from trcopt.nc.model import Move, NcProgram
+from trcopt.path import Segment
+
+__all__ = ["Controller", "Reader", "LeadPass", "Compensator"]
+
+Reader = Callable[[str, ReadOptions], NcProgram]
+"""Program text → canonical moves; never raises for a problem in the program (diagnostics)."""
+
+LeadPass = Callable[[Iterable[Move], TrcSettings, list[Diagnostic]], Iterator[Move]]
+"""Canonical moves with lead blocks → canonical moves the compensation engine runs as programmed."""
+
+Compensator = Callable[[Iterable[Move], TrcSettings, list[Diagnostic], bool], Iterator[Segment]]
+"""``(moves, settings, diagnostics, complete)`` → tool-centre segments; an alarm stops the stream."""
+
+
+@dataclass(frozen=True, slots=True)
+class Controller:
+    """One controller: its names, how to recognise its programs, and its stages.
+
+    Parameters
+    ----------
+    name:
+        Registry name (``--profile``, ``--gcode-flavor``), lower case.
+    dialect:
+        Name of its program language (``--dialect``, the plan JSON's ``dialect``).
+    title:
+        Human-readable name for messages and documentation.
+    extensions:
+        File suffixes of its programs, lower case with the dot (``.mpf``).
+    read:
+        The program reader.
+    compensate:
+        Its tool radius compensation.
+    gcode:
+        Its flavour of plain tool-centre G-code.
+    leads:
+        A pass that expands lead blocks into ordinary moves before compensation (``None``: the
+        reader already produced ordinary moves).
+    recognise:
+        Recognises its programs by their text when the file suffix says nothing (``None``: never
+        claims a program by its text).
+    """
+
+    name: str
+    dialect: str
+    title: str
+    extensions: tuple[str, ...]
+    read: Reader
+    compensate: Compensator
+    gcode: GcodeFlavor
+    leads: LeadPass | None = None
+    recognise: Callable[[str], bool] | None = None
+
+    def claims(self, text: str) -> bool:
+        """True if ``text`` looks like a program of this controller."""
+        return self.recognise is not None and self.recognise(text)

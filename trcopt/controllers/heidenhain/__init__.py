@@ -1,0 +1,47 @@
+"""Heidenhain TNC conversational (Klartext): reader with contour elements, APPR/DEP and a TOML tool
+table, the shared TRC engine under the Heidenhain profile, and block-numbered G-code."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Iterator
+
+from trcopt.compensation.profiles import compensate_with_profile
+from trcopt.config import TrcSettings
+from trcopt.controllers.base import Controller
+from trcopt.controllers.heidenhain.profile import HEIDENHAIN
+from trcopt.controllers.heidenhain.reader import read_klartext
+from trcopt.errors import Diagnostic
+from trcopt.io.gcode import GcodeFlavor
+from trcopt.nc.model import Move
+from trcopt.path import Segment
+
+__all__ = ["CONTROLLER", "HEIDENHAIN"]
+
+_BEGIN_PGM = re.compile(r"^\s*\d*\s*BEGIN\s+PGM\b", re.I | re.M)
+
+
+def _compensate(
+    moves: Iterable[Move], settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool = True
+) -> Iterator[Segment]:
+    return compensate_with_profile(moves, HEIDENHAIN, settings, diagnostics, complete=complete)
+
+
+CONTROLLER = Controller(
+    name="heidenhain",
+    dialect="heidenhain",
+    title="Heidenhain TNC (Klartext)",
+    extensions=(".h",),
+    read=read_klartext,
+    compensate=_compensate,
+    # plain tool-centre output for ISO-programmable TNCs: the SINUMERIK-style ISO subset
+    gcode=GcodeFlavor(
+        name="heidenhain",
+        paren_comments=False,
+        block_numbers=True,
+        decimal_point=False,
+        preamble=("G71", "G90", "G94", "G40"),
+        end="M30",
+    ),
+    recognise=lambda text: _BEGIN_PGM.search(text) is not None,
+)

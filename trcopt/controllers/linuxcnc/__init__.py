@@ -1,0 +1,46 @@
+"""LinuxCNC (RS274NGC): reader with a ``.tbl`` tool table, LinuxCNC's own compensation rules
+(neighbour-only, its error messages), and parenthesised-comment G-code."""
+
+from __future__ import annotations
+
+import re
+
+from trcopt.controllers.base import Controller
+from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
+from trcopt.controllers.linuxcnc.reader import read_ngc
+from trcopt.io.gcode import GcodeFlavor
+
+__all__ = ["CONTROLLER", "GCODE"]
+
+# an RS274 comment: "(" at line start, after blank or after a number (SINUMERIK writes AC(..),
+# MSG(..), X=(..): always after a letter, '=' or an operator)
+_PAREN_COMMENT = re.compile(r"(?:^|[\s0-9.])\([^)\n]*\)", re.M)
+_STRING = re.compile(r'"[^"\n]*"')
+_SEMICOLON_COMMENT = re.compile(r";[^\n]*")
+
+
+def _recognise(text: str) -> bool:
+    """Parenthesised comments outside strings and ``;`` comments (``MSG("(…)")`` says nothing)."""
+    code = _SEMICOLON_COMMENT.sub("", _STRING.sub('""', text))
+    return _PAREN_COMMENT.search(code) is not None
+
+
+GCODE = GcodeFlavor(
+    name="linuxcnc",
+    paren_comments=True,
+    block_numbers=False,
+    decimal_point=True,
+    preamble=("G21", "G90", "G94", "G91.1", "G40"),
+    end="M2",
+)
+
+CONTROLLER = Controller(
+    name="linuxcnc",
+    dialect="rs274",
+    title="LinuxCNC (RS274NGC)",
+    extensions=(".ngc",),
+    read=read_ngc,
+    compensate=compensate_linuxcnc,
+    gcode=GCODE,
+    recognise=_recognise,
+)

@@ -1,0 +1,133 @@
+"""LinuxCNC tool tables (``.tbl``): one tool per line, ``T<n> P<pocket> D<diameter> ... ;comment``.
+
+Words (any order, case-insensitive): ``T`` tool number (required), ``P`` pocket, ``X Y Z A B C U V
+W`` offsets, ``D`` diameter, ``I``/``J`` front/back angle, ``Q`` orientation (lathe tools 1-9).
+Everything after ``;`` is a comment. The file itself does not say its unit: LinuxCNC reads it in
+the machine units, which for the standalone interpreter are **inches**; :func:`load_tbl` therefore
+takes the unit explicitly (``"inch"`` or ``"mm"``) and stores every length in mm.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from trcopt.errors import ConfigError, SourceSpan
+
+__all__ = ["LinuxCncTool", "LinuxCncToolTable", "load_tbl", "parse_tbl", "find_tbl", "TBL_UNITS"]
+
+TBL_UNITS = {"inch": 25.4, "mm": 1.0}
+_WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
+_KNOWN = set("TPXYZABCUVWDIJQ")
+
+
+@dataclass(frozen=True, slots=True)
+class LinuxCncTool:
+    """One tool-table entry; lengths in mm."""
+
+    number: int
+    pocket: int = 0
+    diameter_mm: float = 0.0
+    orientation: int = 0
+    z_offset_mm: float = 0.0
+    comment: str = ""
+
+    @property
+    def radius_mm(self) -> float:
+        """Compensation radius (half the diameter; negative swaps the side), mm."""
+        return self.diameter_mm / 2.0
+
+
+@dataclass(frozen=True, slots=True)
+class LinuxCncToolTable:
+    """Tools by number, with the unit the file was read in (``inch`` or ``mm``)."""
+
+    tools: dict[int, LinuxCncTool] = field(default_factory=dict)
+    unit: str = "inch"
+    source: str = "<table>"
+
+    def get(self, number: int) -> LinuxCncTool | None:
+        return self.tools.get(int(number))
+
+    def __contains__(self, number: object) -> bool:
+        return number in self.tools
+
+    def __len__(self) -> int:
+        return len(self.tools)
+
+
+def _unit_factor(unit: str) -> float:
+    key = str(unit).strip().lower()
+    if key in ("in", "inches"):
+        key = "inch"
+    if key not in TBL_UNITS:
+        raise ConfigError(
+            f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code="CONFIG"
+        )
+    return TBL_UNITS[key]
+
+
+def parse_tbl(text: str, unit: str = "inch", source: str = "<table>") -> LinuxCncToolTable:
+    """Parse the text of a LinuxCNC tool table whose lengths are in ``unit``.
+
+    Raises :class:`~trcopt.errors.ConfigError` (naming file and line) for a line without ``T``,
+    an unknown word, a word given twice or a repeated tool number.
+    """
+    k = _unit_factor(unit)
+    tools: dict[int, LinuxCncTool] = {}
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        body, _, comment = raw.partition(";")
+        if not body.strip():
+            continue
+        span = SourceSpan(source, lineno, 1)
+        leftover = _WORD.sub("", body).strip()
+        if leftover:
+            raise ConfigError(f"tool table: cannot read {leftover!r}", span)
+        words: dict[str, float] = {}
+        for letter, value in _WORD.findall(body):
+            letter = letter.upper()
+            if letter not in _KNOWN:
+                raise ConfigError(
+                    f"tool table: unknown word {letter!r}; valid: {' '.join(sorted(_KNOWN))}", span
+                )
+            if letter in words:
+                raise ConfigError(f"tool table: word {letter} given twice", span)
+            words[letter] = float(value)
+        if "T" not in words:
+            raise ConfigError("tool table: line without tool number T", span)
+        number = int(words["T"])
+        if number in tools:
+            raise ConfigError(f"tool table: tool T{number} defined twice", span)
+        tools[number] = LinuxCncTool(
+            number=number,
+            pocket=int(words.get("P", 0)),
+            diameter_mm=words.get("D", 0.0) * k,
+            orientation=int(words.get("Q", 0)),
+            z_offset_mm=words.get("Z", 0.0) * k,
+            comment=comment.strip(),
+        )
+    return LinuxCncToolTable(tools, "inch" if k != 1.0 else "mm", source)
+
+
+def load_tbl(path: str | os.PathLike[str], unit: str = "inch") -> LinuxCncToolTable:
+    """Read a LinuxCNC ``.tbl`` file whose lengths are in ``unit`` (``"inch"``, LinuxCNC's default
+    machine unit, or ``"mm"``). An unreadable file raises ConfigError (code ``IO``)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise ConfigError(f"cannot read tool table {p}: {exc.strerror}", code="IO") from None
+    return parse_tbl(text, unit, str(p))
+
+
+def find_tbl(program: str) -> Path | None:
+    """The tool table beside a program file: ``<stem>.tbl``, else ``tools.tbl``; None if none."""
+    p = Path(program)
+    if not p.name or not p.is_file():
+        return None
+    for cand in (p.with_suffix(".tbl"), p.with_name("tools.tbl")):
+        if cand.is_file():
+            return cand
+    return None

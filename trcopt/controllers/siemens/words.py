@@ -1,0 +1,491 @@
+"""SINUMERIK 840D sl words: what each address, G code and keyword does to a block.
+
+:class:`SiemensWords` holds one handler per word (dispatched by :data:`WORD_HANDLERS` and
+:data:`G_HANDLERS`). Modal words (G groups, OFFN, DISC, NORM/KONT…, CDON/CDOF…) change the
+:class:`~trcopt.nc.modal.ModalState` as they are read, so they act on the whole block whatever
+their position in it; words whose effect needs a check (plane, compensation side, T/D, feed, axes,
+SAR) are collected in a :class:`Block` and applied when the block is complete
+(:mod:`trcopt.controllers.siemens.reader`). Everything trcopt does not implement is reported (warning
+``NC-UNSUPPORTED-WORD``) and kept in the move's actions; words that would change the geometry
+without trcopt knowing (frames, polar coordinates, splines) stop the program.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from trcopt.controllers.siemens.lexer import Expr, Word
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.geometry.plane import Plane
+from trcopt.modes import (
+    ApproachMode,
+    ApproachStrategy,
+    CollisionMode,
+    CornerMode,
+    SarContour,
+    SarSegmentation,
+    SarSide,
+    Side,
+)
+from trcopt.nc.modal import ModalState, ReadOptions, fail
+from trcopt.nc.model import MoveKind
+
+__all__ = ["Block", "SiemensWords", "WORD_HANDLERS", "G_HANDLERS"]
+
+_AXES = {"X": 0, "Y": 1, "Z": 2}
+_CENTRE = {"I": 0, "J": 1, "K": 2}
+_MOTION = {0: MoveKind.RAPID, 1: MoveKind.LINE, 2: MoveKind.ARC, 3: MoveKind.ARC}
+_PLANES = {17: Plane.G17, 18: Plane.G18, 19: Plane.G19}
+_SIDES = {40: Side.OFF, 41: Side.LEFT, 42: Side.RIGHT}
+_SAR_CONTOURS = {int(c.value[1:]): c for c in SarContour}
+_SAR_SIDES = {int(c.value[1:]): c for c in SarSide}
+_SAR_SEGMENTATION = {340: SarSegmentation.G340, 341: SarSegmentation.G341}
+_CORNERS = {450: CornerMode.TRANSITION_CIRCLE, 451: CornerMode.INTERSECTION}
+_STRATEGIES = {460: ApproachStrategy.G460, 461: ApproachStrategy.G461, 462: ApproachStrategy.G462}
+_APPROACH = {m.value: m for m in ApproachMode}
+_COLLISION = {m.value: m for m in CollisionMode}
+_END_M = {2, 30, 17}
+_INCH = 25.4
+# words that would change the geometry behind trcopt's back: stop rather than guess
+_GEOMETRY_WORDS = {
+    "TRANS", "ATRANS", "CTRANS", "ROT", "AROT", "ROTS", "AROTS", "CROTS", "RPL", "SCALE",
+    "ASCALE", "MIRROR", "AMIRROR", "AP", "RP", "CIP", "CT", "ASPLINE", "BSPLINE", "CSPLINE",
+    "POLY",
+}  # fmt: skip
+_GEOMETRY_G = {33, 34, 35, 110, 111, 112, 331, 332}
+_TOOLHOLDER_WORDS = ("TCOABS", "TCOFR", "TCOFRZ", "TCOFRY", "TCOFRX")
+
+
+class Block:
+    """Scratch record of one block's words that are applied after the whole block is read.
+
+    Class attributes hold the defaults so that creating a record per block stays cheap.
+    """
+
+    centre_col = 0  # column of the first I/J/K/CR word (0: none)
+    cr: float | None = None
+    turn = 0
+    motion: tuple[int, int] | None = None  # (G number, column)
+    plane: tuple[Plane, int] | None = None
+    side: tuple[Side, int] | None = None
+    t: int | None = None
+    d: int | None = None
+    feed: float | None = None  # programmed F value (unit per minute)
+    feed_col = 0
+    dwell = False
+    sar: tuple[SarContour, int] | None = None
+    disr: float | None = None
+    discl: tuple[float, bool] | None = None
+    disrp: tuple[float, bool] | None = None
+    fad: tuple[float, str] | None = None
+    sar_param: Word | None = None  # first SAR parameter word (for the warning without SAR)
+    end = False
+
+    def __init__(self) -> None:
+        self.axes: list[tuple[float, bool] | None] = [None, None, None]
+        self.centre: list[tuple[float, bool] | None] = [None, None, None]
+        self.actions: list[str] = []
+
+
+def _fmt(value: float) -> str:
+    """A number as written in an action string: ``600``, ``0.25`` (no exponent for NC values)."""
+    return str(int(value)) if value.is_integer() else repr(value)
+
+
+Handler = Callable[["SiemensWords", Word, Block, SourceSpan], None]
+
+
+class SiemensWords:
+    """Word handlers of the SINUMERIK reader (state lives in :class:`SiemensWords`)."""
+
+    options: ReadOptions
+    file: str
+    state: ModalState
+    diagnostics: list[Diagnostic]
+    carriers: dict[int, dict[int, object]]
+    toolholder_events: list[dict[str, object]]
+    absolute: bool
+    geom_scale: float
+    feed_scale: float
+
+    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
+        self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span))
+
+    def _at(self, span: SourceSpan, word: Word) -> SourceSpan:
+        return SourceSpan(span.file, span.line, word.column, span.block)
+
+    # ------------------------------------------------------------------ value helpers
+    def _number(self, word: Word, span: SourceSpan) -> float:
+        value = word.value
+        if type(value) is float:
+            return value
+        if value is None:
+            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+        if isinstance(value, Expr):
+            raise fail(
+                "NC-UNSUPPORTED-EXPR",
+                f"expression {word.text!r} uses variables, which trcopt does not evaluate",
+                self._at(span, word),
+            )
+        raise fail("NC-SYNTAX", f"invalid value in {word.text!r}", self._at(span, word))
+
+    def _integer(self, word: Word, span: SourceSpan) -> int:
+        value = self._number(word, span)
+        if value != int(value) or value < 0:
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs a whole number, got {word.text!r}",
+                self._at(span, word),
+            )
+        return int(value)
+
+    def _positional(
+        self, word: Word, span: SourceSpan, default_absolute: bool
+    ) -> tuple[float, bool]:
+        """A coordinate word: (value in mm, absolute?) honouring ``=AC(..)`` / ``=IC(..)``."""
+        value = word.value
+        if type(value) is tuple:
+            mode, inner = value
+            if mode in ("AC", "IC") and type(inner) is float:
+                return inner * self.geom_scale, mode == "AC"
+            if isinstance(inner, Expr):
+                self._number(Word(word.name, inner, word.column, word.text), span)
+            raise fail(
+                "NC-SYNTAX",
+                f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
+                self._at(span, word),
+            )
+        return self._number(word, span) * self.geom_scale, default_absolute
+
+    def _keyword(self, word: Word, span: SourceSpan) -> None:
+        if word.value is not None:
+            raise fail("NC-SYNTAX", f"{word.name} takes no value", self._at(span, word))
+
+    # ------------------------------------------------------------------ word handlers
+    def _g(self, word: Word, b: Block, span: SourceSpan) -> None:
+        value = word.value
+        if type(value) is not float:
+            value = self._number(word, span)
+        g = int(value)
+        handler = G_HANDLERS.get(g) if g == value else None
+        if handler is None:
+            if g == value and g in _GEOMETRY_G:
+                raise fail(
+                    "NC-UNSUPPORTED",
+                    f"{word.text} is not supported by trcopt",
+                    self._at(span, word),
+                )
+            self._unsupported(word, b, span)
+        else:
+            handler(self, g, word, b, span)
+
+    def _g_motion(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        if b.motion is not None:
+            raise fail(
+                "NC-SYNTAX",
+                f"G{b.motion[0]} and {word.text} in one block (same group)",
+                self._at(span, word),
+            )
+        b.motion = (g, word.column)
+
+    def _g_plane(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        b.plane = (_PLANES[g], word.column)
+
+    def _g_side(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        if b.side is not None:
+            raise fail("NC-SYNTAX", "two of G40/G41/G42 in one block", self._at(span, word))
+        b.side = (_SIDES[g], word.column)
+
+    def _g_mode(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        st = self.state
+        if g in _CORNERS:
+            st.corner = _CORNERS[g]
+        elif g in _STRATEGIES:
+            st.strategy = _STRATEGIES[g]
+        elif g in _SAR_SIDES:
+            st.sar_side = _SAR_SIDES[g]
+        elif g in _SAR_SEGMENTATION:
+            st.sar_segmentation = _SAR_SEGMENTATION[g]
+        elif g == 90 or g == 91:
+            self.absolute = g == 90
+        elif g in (70, 71, 700, 710):
+            self.geom_scale = _INCH if g in (70, 700) else 1.0
+            if g in (700, 710):
+                self.feed_scale = _INCH if g == 700 else 1.0
+        elif g == 94:
+            pass
+        elif g == 95:
+            self._warn(
+                "NC-G95", "feed per revolution not supported, treated as G94", self._at(span, word)
+            )
+        elif g == 4:
+            b.dwell = True
+            b.actions.append(word.text.upper())
+
+    def _g_sar(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        if b.sar is not None:
+            raise AlarmError(
+                alarm(
+                    10743,
+                    f"SAR programmed twice in one block (G{b.sar[0].value[1:]}"
+                    f" and {word.text.upper()})",
+                    self._at(span, word),
+                )
+            )
+        b.sar = (_SAR_CONTOURS[g], word.column)
+
+    def _axis(self, word: Word, b: Block, span: SourceSpan) -> None:
+        i = _AXES[word.name]
+        if b.axes[i] is not None:
+            raise fail(
+                "NC-SYNTAX",
+                f"address {word.name} programmed twice in one block",
+                self._at(span, word),
+            )
+        value = word.value
+        if type(value) is float:
+            b.axes[i] = (value * self.geom_scale, self.absolute)
+        else:
+            b.axes[i] = self._positional(word, span, self.absolute)
+
+    def _centre(self, word: Word, b: Block, span: SourceSpan) -> None:
+        i = _CENTRE[word.name]
+        if b.centre[i] is not None:
+            raise fail(
+                "NC-SYNTAX",
+                f"address {word.name} programmed twice in one block",
+                self._at(span, word),
+            )
+        b.centre[i] = self._positional(word, span, False)
+        b.centre_col = b.centre_col or word.column
+
+    def _cr(self, word: Word, b: Block, span: SourceSpan) -> None:
+        b.cr = self._number(word, span) * self.geom_scale
+        b.centre_col = b.centre_col or word.column
+
+    def _turn(self, word: Word, b: Block, span: SourceSpan) -> None:
+        b.turn = self._integer(word, span)
+
+    def _feed(self, word: Word, b: Block, span: SourceSpan) -> None:
+        value = self._number(word, span)
+        if b.feed is not None:
+            raise fail("NC-SYNTAX", "F programmed twice in one block", self._at(span, word))
+        b.actions.append("F" + _fmt(value))
+        b.feed = value
+        b.feed_col = word.column
+
+    def _tool(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if isinstance(word.value, str) and not isinstance(word.value, Expr):
+            self._unsupported(word, b, span)  # T="name": tool management not modelled
+            return
+        b.t = self._integer(word, span)
+        b.actions.append(f"T{b.t}")
+
+    def _edge(self, word: Word, b: Block, span: SourceSpan) -> None:
+        b.d = self._integer(word, span)
+        b.actions.append(f"D{b.d}")
+
+    def _m(self, word: Word, b: Block, span: SourceSpan) -> None:
+        m = self._integer(word, span)
+        b.actions.append(f"M{m}")
+        if m in _END_M:
+            b.end = True
+
+    def _return(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        b.actions.append("RET")
+        b.end = True
+
+    def _action(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """S (spindle speed) and H (auxiliary function): kept as ``"S1000"``, ``"H2"``."""
+        b.actions.append(word.name + _fmt(self._number(word, span)))
+
+    def _offn(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self.state.offn = self._number(word, span) * self.geom_scale
+
+    def _disc(self, word: Word, b: Block, span: SourceSpan) -> None:
+        value = round(self._number(word, span))
+        limit = self.options.max_disc
+        clamped = min(max(value, 0), limit)
+        if clamped != value:
+            self._warn(
+                "NC-DISC-CLAMPED",
+                f"DISC={value} clamped to {clamped} (CUTCOM_MAX_DISC {limit})",
+                self._at(span, word),
+            )
+        self.state.disc = clamped
+
+    def _approach(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        self.state.approach = _APPROACH[word.name]
+
+    def _collision(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        self.state.collision = _COLLISION[word.name]
+
+    def _cut2d(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        if word.name == "CUT2DF":
+            self._warn(
+                "NC-UNSUPPORTED-WORD",
+                "CUT2DF not supported (frame plane); compensating in the G17-G19 plane",
+                self._at(span, word),
+            )
+            b.actions.append(word.text)
+
+    def _sar_length(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if b.sar_param is None:
+            b.sar_param = word
+        if word.name == "DISR":
+            b.disr = self._number(word, span) * self.geom_scale
+        else:
+            value = self._positional(word, span, False)
+            if word.name == "DISCL":
+                b.discl = value
+            else:
+                b.disrp = value
+
+    def _fad(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if b.sar_param is None:
+            b.sar_param = word
+        value = word.value
+        mode = ""
+        if type(value) is tuple:
+            mode, inner = value
+            if mode not in ("PM", "PR") or type(inner) is not float:
+                raise fail(
+                    "NC-SYNTAX",
+                    f"invalid value in {word.text!r} (expected PM(..) or PR(..))",
+                    self._at(span, word),
+                )
+            value = inner
+        else:
+            value = self._number(word, span)
+        if mode == "PR":
+            self._warn(
+                "NC-G95",
+                "FAD=PR (feed per revolution) not supported; value kept in mm/rev",
+                self._at(span, word),
+            )
+            b.fad = (float(value), mode)
+        else:
+            b.fad = (float(value) * self.feed_scale / 60.0, mode)
+
+    def _toolholder(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if word.name == "TCARR":
+            value: int | None = self._integer(word, span)
+        else:
+            self._keyword(word, span)
+            value = None
+        self.toolholder_events.append(
+            {"line": span.line, "block": span.block, "word": word.name, "value": value}
+        )
+        b.actions.append(word.text)
+
+    def _msg(self, word: Word, b: Block, span: SourceSpan) -> None:
+        b.actions.append(word.text)
+
+    def _block_number(self, word: Word, b: Block, span: SourceSpan) -> None:
+        raise fail("NC-SYNTAX", "block number N inside a block", self._at(span, word))
+
+    def _unsupported(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if word.name in _GEOMETRY_WORDS:
+            raise fail(
+                "NC-UNSUPPORTED",
+                f"{word.name} is not supported by trcopt (it would change the geometry)",
+                self._at(span, word),
+            )
+        if word.value is None and word.subscript is None and len(word.name) == 1:
+            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+        self._warn(
+            "NC-UNSUPPORTED-WORD",
+            f"{word.text} is not supported by trcopt (ignored)",
+            self._at(span, word),
+        )
+        b.actions.append(word.text)
+
+    def _system_variable(self, word: Word, b: Block, span: SourceSpan) -> None:
+        name = word.name
+        if name.startswith("$TC_DP") and name[6:].isdigit():
+            t, d = self._index(word, span, 2)
+            value = self._number(word, span)
+            if not self.state.tools.assign(int(name[6:]), t, d, value):
+                self._unsupported(word, b, span)
+                return
+        elif name.startswith("$TC_CARR") and name[8:].isdigit():
+            (m,) = self._index(word, span, 1)
+            data = word.value
+            if not isinstance(data, str) or isinstance(data, Expr):
+                data = self._number(word, span)
+            self.carriers.setdefault(m, {})[int(name[8:])] = data
+        else:
+            self._unsupported(word, b, span)
+            return
+        b.actions.append(word.text)
+
+    def _index(self, word: Word, span: SourceSpan, count: int) -> tuple[int, ...]:
+        parts = (word.subscript or "").split(",")
+        try:
+            values = tuple(int(p) for p in parts)
+        except ValueError:
+            values = ()
+        if len(values) != count or min(values) < 0:
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs {count} whole-number index"
+                f"{'es' if count > 1 else ''}, got [{word.subscript}]",
+                self._at(span, word),
+            )
+        return values
+
+
+def _g_table() -> dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan], None]]:
+    table: dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan], None]] = {}
+    for g in _MOTION:
+        table[g] = SiemensWords._g_motion
+    for g in _PLANES:
+        table[g] = SiemensWords._g_plane
+    for g in _SIDES:
+        table[g] = SiemensWords._g_side
+    for g in _SAR_CONTOURS:
+        table[g] = SiemensWords._g_sar
+    modes = [*_CORNERS, *_STRATEGIES, *_SAR_SIDES, *_SAR_SEGMENTATION, 90, 91, 70, 71, 700, 710]
+    for g in [*modes, 94, 95, 4]:
+        table[g] = SiemensWords._g_mode
+    return table
+
+
+G_HANDLERS = _g_table()
+
+WORD_HANDLERS: dict[str, Handler] = {
+    "G": SiemensWords._g,
+    "X": SiemensWords._axis,
+    "Y": SiemensWords._axis,
+    "Z": SiemensWords._axis,
+    "I": SiemensWords._centre,
+    "J": SiemensWords._centre,
+    "K": SiemensWords._centre,
+    "CR": SiemensWords._cr,
+    "TURN": SiemensWords._turn,
+    "F": SiemensWords._feed,
+    "T": SiemensWords._tool,
+    "D": SiemensWords._edge,
+    "M": SiemensWords._m,
+    "S": SiemensWords._action,
+    "H": SiemensWords._action,
+    "N": SiemensWords._block_number,
+    "OFFN": SiemensWords._offn,
+    "DISC": SiemensWords._disc,
+    "DISR": SiemensWords._sar_length,
+    "DISCL": SiemensWords._sar_length,
+    "DISRP": SiemensWords._sar_length,
+    "FAD": SiemensWords._fad,
+    "CUT2D": SiemensWords._cut2d,
+    "CUT2DF": SiemensWords._cut2d,
+    "TCARR": SiemensWords._toolholder,
+    "MSG": SiemensWords._msg,
+    "RET": SiemensWords._return,
+    **{name: SiemensWords._approach for name in _APPROACH},
+    **{name: SiemensWords._collision for name in _COLLISION},
+    **{name: SiemensWords._toolholder for name in _TOOLHOLDER_WORDS},
+}

@@ -1,0 +1,164 @@
+"""Every mode of the project in one place, and the one parser that turns strings into modes.
+
+Modes are enums; strings are accepted only at the boundary (command line, TOML, public keyword
+arguments) through :func:`parse_enum`, which rejects an unknown value listing the valid options.
+
+Conventions: positive offset = left of travel = G41 = RL (``Side.LEFT``).
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import TypeVar
+
+__all__ = [
+    "parse_enum",
+    "Side",
+    "CornerMode",
+    "ApproachMode",
+    "CollisionMode",
+    "ApproachStrategy",
+    "SarContour",
+    "SarSide",
+    "SarSegmentation",
+    "LeadShape",
+    "LeadSide",
+    "Segmentation",
+    "RetractEnd",
+    "CornerTransition",
+    "ToolUnit",
+]
+
+E = TypeVar("E", bound=enum.Enum)
+
+
+def parse_enum(cls: type[E], value: object, what: str | None = None) -> E:
+    """The member of ``cls`` named by ``value``: a member, its name or its value (case-insensitive).
+
+    Anything else raises :class:`ValueError` naming ``what`` (default: the enum's name) and listing
+    the valid values.
+    """
+    if isinstance(value, cls):
+        return value
+    text = str(value).strip().upper()
+    for member in cls:
+        if text in (member.name.upper(), str(member.value).upper()):
+            return member
+    options = ", ".join(str(m.value) for m in cls)
+    raise ValueError(f"invalid {what or cls.__name__} {value!r}; valid: {options}")
+
+
+class Side(enum.Enum):
+    """Compensation side: OFF = G40/R0, LEFT = G41/RL (tool left of travel), RIGHT = G42/RR."""
+
+    OFF = "off"
+    LEFT = "left"
+    RIGHT = "right"
+
+    @property
+    def sign(self) -> int:
+        return _SIDE_SIGN[self.value]
+
+
+_SIDE_SIGN = {"off": 0, "left": 1, "right": -1}
+
+
+class CornerMode(enum.Enum):
+    TRANSITION_CIRCLE = "G450"
+    INTERSECTION = "G451"
+
+
+class ApproachMode(enum.Enum):
+    NORM = "NORM"
+    KONT = "KONT"
+    KONTT = "KONTT"
+    KONTC = "KONTC"
+
+
+class CollisionMode(enum.Enum):
+    CDOF = "CDOF"
+    CDON = "CDON"
+    CDOF2 = "CDOF2"
+
+
+class ApproachStrategy(enum.Enum):
+    G460 = "G460"
+    G461 = "G461"
+    G462 = "G462"
+
+
+class SarContour(enum.Enum):
+    G147 = "G147"  # approach, straight line
+    G148 = "G148"  # retract, straight line
+    G247 = "G247"  # approach, quadrant
+    G248 = "G248"  # retract, quadrant
+    G347 = "G347"  # approach, semicircle
+    G348 = "G348"  # retract, semicircle
+
+    @property
+    def is_approach(self) -> bool:
+        return self.value.endswith("7")
+
+
+class SarSide(enum.Enum):
+    G140 = "G140"
+    G141 = "G141"
+    G142 = "G142"
+    G143 = "G143"
+
+
+class SarSegmentation(enum.Enum):
+    G340 = "G340"
+    G341 = "G341"
+
+
+class LeadShape(enum.Enum):
+    """Shape of the lead contour P3 → P4."""
+
+    LINE = "line"  # G147 / G148
+    QUADRANT = "quadrant"  # G247 / G248
+    SEMICIRCLE = "semicircle"  # G347 / G348
+
+
+class LeadSide(enum.Enum):
+    """Side the lead circle lies on, relative to the tangent at P4."""
+
+    FROM_COMPENSATION = "G140"  # side of G41/G42; AUTOMATIC when compensation is off
+    LEFT = "G141"
+    RIGHT = "G142"
+    AUTOMATIC = "G143"  # the side of the start (approach) or end (retraction) point
+
+
+class Segmentation(enum.Enum):
+    """How the applicate infeed is split (spec R41)."""
+
+    SPATIAL = "G340"  # infeed to the DISCL level, then a slanted line or a helix to P4
+    PLANAR = "G341"  # infeed down to the machining plane, then the contour in the plane
+
+
+class RetractEnd(enum.Enum):
+    """Which coordinates of the retraction end point P0 the block programs (spec R45)."""
+
+    PROGRAMMED = "programmed"  # at least one plane axis: P0 is the block end point
+    APPLICATE_ONLY = "applicate"  # only the applicate: the lead ends in P1 (= P0)
+    NONE = "none"  # no geometry axis: the lead ends in P2 (= P1 = P0)
+
+
+class CornerTransition(enum.Enum):
+    """What replaces a tangent discontinuity of the tool path (``--corners``)."""
+
+    EXACT = "exact"
+    OPTIMAL = "optimal"
+    ARC = "arc"
+
+
+class ToolUnit(enum.Enum):
+    """Length unit of a tool-table file."""
+
+    INCH = "inch"
+    MM = "mm"
+
+    @property
+    def mm(self) -> float:
+        """Millimetres per unit."""
+        return 25.4 if self is ToolUnit.INCH else 1.0

@@ -1,0 +1,13 @@
+"""The constraint model of the tool-centre geometry and the verification of every plan.
+
+* :mod:`.model` — closed-form residual functions (distance to an element = radius, tangency at
+  joints, no reversal of the infeed, clearance from the programmed contour); the optimisation
+  problems of :mod:`trcopt.optimize` use the same functions as constraints;
+* :mod:`.plan` — :func:`verify_plan`: the largest residual of each family over a planned path.
+"""
+
+from __future__ import annotations
+
+from trcopt.verify.plan import FAMILIES, FamilyResidual, VerificationReport, verify_plan
+
+__all__ = ["FAMILIES", "FamilyResidual", "VerificationReport", "verify_plan"]
