@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
@@ -16,6 +16,9 @@ from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
 from trcopt.modes import CornerTransition, ToolUnit, parse_enum
 from trcopt.nc.model import NcProgram
 from trcopt.path import Segment, segments_length
+
+if TYPE_CHECKING:
+    from trcopt.controllers.base import Controller
 
 __all__ = ["PlanOptions", "PlanResult", "plan", "plan_file"]
 
@@ -148,7 +151,7 @@ class PlanResult:
         ]
         if self.duration is not None:
             kind = "jerk-limited " if getattr(self.timing, "jerk_limited", False) else ""
-            lines.append(f"{kind}cycle time {self.duration:.3f} s on {self.timing.machine.name}")  # type: ignore[union-attr]
+            lines.append(f"{kind}cycle time {self.duration:.3f} s on {self.timing.machine.name}")
         corners = self.extra.get("corners")
         if corners:
             lines.append(
@@ -248,7 +251,7 @@ def plan(
     return result
 
 
-def _controller(name: str, what: str):  # type: ignore[no-untyped-def]
+def _controller(name: str, what: str) -> Controller:
     """The registered controller called ``name``; an unknown name is a usage error."""
     from trcopt import controllers
 

@@ -15,10 +15,10 @@ from typing import TYPE_CHECKING
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
 from trcopt.errors import Severity
-from trcopt.modes import CornerTransition, ToolUnit
+from trcopt.modes import CornerTransition, ToolUnit, parse_enum
 
 if TYPE_CHECKING:
-    from trcopt.pipeline import PlanOptions
+    from trcopt.pipeline import PlanOptions, PlanResult
 
 __all__ = ["add_arguments", "add_check_arguments", "run_plan", "run_check"]
 
@@ -89,7 +89,7 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         timing=not getattr(args, "no_timing", True),
         strict=args.strict,
         tool_table=getattr(args, "tool_table", None),
-        tool_unit=getattr(args, "tool_unit", "inch"),
+        tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.INCH), "tool unit"),
         corners=getattr(args, "corners", "exact"),
         tolerance_mm=getattr(args, "tolerance", 0.01),
         jerk=getattr(args, "jerk", False),
@@ -110,7 +110,7 @@ def _workers(text: str) -> int:
     return value or os.cpu_count() or 1
 
 
-def _print_diagnostics(result) -> None:  # type: ignore[no-untyped-def]
+def _print_diagnostics(result: PlanResult) -> None:
     for d in result.diagnostics:
         stream = sys.stderr if d.severity is Severity.ERROR else sys.stdout
         print(d.format(), file=stream)

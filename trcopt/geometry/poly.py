@@ -15,6 +15,7 @@ import bisect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2, Vec3
@@ -259,7 +260,7 @@ def _curvature_vector(d1: Vec3, d2: Vec3) -> Vec3:
     return ((d2[0] - along * d1[0]) / n2, (d2[1] - along * d1[1]) / n2, (d2[2] - along * d1[2]) / n2)
 
 
-def quintic_hermite_basis(u):  # type: ignore[no-untyped-def]
+def quintic_hermite_basis(u: Any) -> Any:
     """Quintic Hermite basis functions and their first and second derivatives at ``u`` (a float
     or a numpy array, elementwise), each a 6-tuple in the coefficient order
     (P0, D0, A0, A1, D1, P1) of :func:`hermite_curve`."""
@@ -291,7 +292,7 @@ def quintic_hermite_basis(u):  # type: ignore[no-untyped-def]
     return h0, h1, h2
 
 
-def quintic_hermite_third(u):  # type: ignore[no-untyped-def]
+def quintic_hermite_third(u: Any) -> Any:
     """Third derivatives of the quintic Hermite basis functions (order as
     :func:`quintic_hermite_basis`)."""
     u2 = u * u
@@ -305,7 +306,7 @@ def quintic_hermite_third(u):  # type: ignore[no-untyped-def]
     )
 
 
-def quintic_hermite_higher(u):  # type: ignore[no-untyped-def]
+def quintic_hermite_higher(u: Any) -> Any:
     """Fourth and fifth derivatives of the quintic Hermite basis functions (order as
     :func:`quintic_hermite_basis`); the fifth are constants."""
     return (
@@ -336,7 +337,7 @@ def hermite_curve(
         return _sample(f, df, label)
 
     def combine(b: tuple[float, ...]) -> Vec3:
-        return tuple(  # type: ignore[return-value]
+        return tuple(
             b[0] * P0 + b[1] * D0 + b[2] * A0 + b[3] * A1 + b[4] * D1 + b[5] * P1
             for P0, D0, A0, A1, D1, P1 in zip(p0, d0, a0, a1, d1, p1, strict=True)
         )

@@ -1,0 +1,275 @@
+"""The catalogue of every stable diagnostic code — the only place codes are defined.
+
+A code is what the plan JSON (``diagnostics[].code``), the terminal line
+(``prog.mpf:7:5: warning 10763 (N60): …``) and :class:`~trcopt.errors.TrcoptError` carry. One
+spelling: a controller's own alarm number where the controller has one (SINUMERIK ``10751``),
+otherwise an upper-case, hyphenated code whose first word names the family:
+
+=============  ================================================================================
+family         meaning
+=============  ================================================================================
+``1xxxx``      SINUMERIK 840D sl alarm numbers (compensation, SAR, toolholder)
+``NC-``        reading a program (every language)
+``TRC-``       the compensation engine, where the controllers have no number
+``SAR-``       SINUMERIK smooth approach and retraction without an alarm number
+``HH-``        Heidenhain TNC errors (the TNC reports texts, not numbers)
+``LCNC-``      LinuxCNC interpreter errors (the message is LinuxCNC's own text)
+``TH-``        toolholder with orientation capability
+``TIMING-``    time parameterisation
+``SOLVER-``    optimisation problems
+(no prefix)    usage, files and outputs: ``USAGE``, ``IO``, ``CONFIG``, …
+=============  ================================================================================
+
+:class:`Code` is a string enum, so a code compares equal to its text and serialises as it.
+:data:`MEANING` says when each is raised; ``docs/diagnostics.md`` is the same table for users (a
+test keeps them equal). A :class:`~trcopt.errors.Diagnostic` or error with a code that is not
+here is rejected when it is made.
+"""
+
+from __future__ import annotations
+
+import enum
+
+__all__ = ["Code", "MEANING", "family"]
+
+
+class Code(enum.StrEnum):
+    """Every stable diagnostic code (see the module docstring for the families)."""
+
+    # --- SINUMERIK 840D sl alarms --------------------------------------------------------------
+    ALARM_10740 = "10740"
+    ALARM_10741 = "10741"
+    ALARM_10742 = "10742"
+    ALARM_10743 = "10743"
+    ALARM_10744 = "10744"
+    ALARM_10747 = "10747"
+    ALARM_10748 = "10748"
+    ALARM_10750 = "10750"
+    ALARM_10751 = "10751"
+    ALARM_10753 = "10753"
+    ALARM_10754 = "10754"
+    ALARM_10755 = "10755"
+    ALARM_10756 = "10756"
+    ALARM_10757 = "10757"
+    ALARM_10758 = "10758"
+    ALARM_10762 = "10762"
+    ALARM_10763 = "10763"
+    ALARM_14153 = "14153"
+    # --- reading programs ------------------------------------------------------------------------
+    NC_SYNTAX = "NC-SYNTAX"
+    NC_UNSUPPORTED = "NC-UNSUPPORTED"
+    NC_UNSUPPORTED_WORD = "NC-UNSUPPORTED-WORD"
+    NC_UNSUPPORTED_EXPR = "NC-UNSUPPORTED-EXPR"
+    NC_ARC_RADIUS = "NC-ARC-RADIUS"
+    NC_ARC_CENTRE = "NC-ARC-CENTRE"
+    NC_DISC_CLAMPED = "NC-DISC-CLAMPED"
+    NC_G95 = "NC-G95"
+    NC_NO_END = "NC-NO-END"
+    NC_NO_FEED = "NC-NO-FEED"
+    NC_SAR_PARAM = "NC-SAR-PARAM"
+    NC_TOOL_TYPE = "NC-TOOL-TYPE"
+    NC_INTERNAL = "NC-INTERNAL"
+    # --- compensation engine ---------------------------------------------------------------------
+    TRC_CONTOUR_VIOLATION = "TRC-CONTOUR-VIOLATION"
+    TRC_SIDE_CHANGE = "TRC-SIDE-CHANGE"
+    TRC_ACTIVE_AT_END = "TRC-ACTIVE-AT-END"
+    TRC_KONTT_BLOCK = "TRC-KONTT-BLOCK"
+    # --- SINUMERIK SAR ---------------------------------------------------------------------------
+    SAR_PREPROCESSING_STOP = "SAR-PREPROCESSING-STOP"
+    # --- Heidenhain TNC --------------------------------------------------------------------------
+    HH_SYNTAX = "HH-SYNTAX"
+    HH_TOOL_RADIUS_TOO_LARGE = "HH-TOOL-RADIUS-TOO-LARGE"
+    HH_TRC_SIDE_SWITCH = "HH-TRC-SIDE-SWITCH"
+    HH_TRC_IN_CIRCLE = "HH-TRC-IN-CIRCLE"
+    HH_TRC_NEG_RADIUS = "HH-TRC-NEG-RADIUS"
+    HH_CIRCLE_END = "HH-CIRCLE-END"
+    HH_CR_CHORD = "HH-CR-CHORD"
+    HH_CT_NO_TANGENT = "HH-CT-NO-TANGENT"
+    HH_RND_TOO_LARGE = "HH-RND-TOO-LARGE"
+    HH_CHF_TOO_LARGE = "HH-CHF-TOO-LARGE"
+    HH_CHF_NOT_LINES = "HH-CHF-NOT-LINES"
+    HH_APPR_NO_CONTOUR = "HH-APPR-NO-CONTOUR"
+    HH_APPR_NO_FEED = "HH-APPR-NO-FEED"
+    HH_APPR_NO_TANGENT = "HH-APPR-NO-TANGENT"
+    HH_APPR_CCA = "HH-APPR-CCA"
+    HH_NO_FEED = "HH-NO-FEED"
+    HH_NO_POLE = "HH-NO-POLE"
+    HH_NO_TOOL = "HH-NO-TOOL"
+    HH_TOOL_UNKNOWN = "HH-TOOL-UNKNOWN"
+    HH_PARAXIAL_NOT_PARAXIAL = "HH-PARAXIAL-NOT-PARAXIAL"
+    # --- LinuxCNC --------------------------------------------------------------------------------
+    LCNC_TOOL_TABLE = "LCNC-TOOL-TABLE"
+    LCNC_TOOL_NOT_FOUND = "LCNC-TOOL-NOT-FOUND"
+    LCNC_ARC_RADIUS = "LCNC-ARC-RADIUS"
+    LCNC_ENTRY_TOO_SHORT = "LCNC-ENTRY-TOO-SHORT"
+    LCNC_ENTRY_ARC_TOO_SHORT = "LCNC-ENTRY-ARC-TOO-SHORT"
+    LCNC_CONCAVE_GOUGE = "LCNC-CONCAVE-GOUGE"
+    LCNC_CONCAVE_GOUGE_TRAVERSE = "LCNC-CONCAVE-GOUGE-TRAVERSE"
+    LCNC_CONCAVE_GOUGE_ARC = "LCNC-CONCAVE-GOUGE-ARC"
+    LCNC_ARC_LINE_GOUGE = "LCNC-ARC-LINE-GOUGE"
+    LCNC_ARC_ARC_GOUGE = "LCNC-ARC-ARC-GOUGE"
+    LCNC_ARC_SAME_CENTER = "LCNC-ARC-SAME-CENTER"
+    LCNC_ARC_TOO_SMALL = "LCNC-ARC-TOO-SMALL"
+    LCNC_COMP_ALREADY_ON = "LCNC-COMP-ALREADY-ON"
+    LCNC_YZ_PLANE = "LCNC-YZ-PLANE"
+    LCNC_ARC_AFTER_G40 = "LCNC-ARC-AFTER-G40"
+    # --- toolholder ------------------------------------------------------------------------------
+    TH_VALUE = "TH-VALUE"
+    TH_CHAIN_OPEN = "TH-CHAIN-OPEN"
+    TH_IGNORED_L1 = "TH-IGNORED-L1"
+    TH_IGNORED_L4 = "TH-IGNORED-L4"
+    TH_UNDEFINED_PARAM = "TH-UNDEFINED-PARAM"
+    TH_UNKNOWN_HOLDER = "TH-UNKNOWN-HOLDER"
+    TH_UNKNOWN_WORD = "TH-UNKNOWN-WORD"
+    TH_UNREACHABLE = "TH-UNREACHABLE"
+    TH_NO_VALID_SOLUTION = "TH-NO-VALID-SOLUTION"
+    TH_LIMIT = "TH-LIMIT"
+    # --- timing ----------------------------------------------------------------------------------
+    TIMING = "TIMING"
+    TIMING_EMPTY = "TIMING-EMPTY"
+    TIMING_FEED = "TIMING-FEED"
+    TIMING_ZERO_LENGTH = "TIMING-ZERO-LENGTH"
+    TIMING_STUCK = "TIMING-STUCK"
+    TIMING_TOPPRA = "TIMING-TOPPRA"
+    TIMING_JERK_GRID = "TIMING-JERK-GRID"
+    TIMING_JERK_SOLVER = "TIMING-JERK-SOLVER"
+    # --- optimisation ----------------------------------------------------------------------------
+    SOLVER = "SOLVER"
+    SOLVER_INFEASIBLE = "SOLVER-INFEASIBLE"
+    # --- usage, files, outputs -------------------------------------------------------------------
+    TRCOPT = "TRCOPT"
+    USAGE = "USAGE"
+    IO = "IO"
+    CONFIG = "CONFIG"
+    GEOMETRY = "GEOMETRY"
+    GCODE = "GCODE"
+    PLAN_JSON = "PLAN-JSON"
+    SCHEMA = "SCHEMA"
+    DXF_MISSING = "DXF-MISSING"
+
+
+MEANING: dict[Code, str] = {
+    Code.ALARM_10740: "SAR: too many blocks without plane motion between the SAR block and the contour (MD20202)",
+    Code.ALARM_10741: "SAR: the infeed would reverse its direction (DISCL check)",
+    Code.ALARM_10742: "SAR: DISR missing or invalid, or the lead line length / circle radius is ≤ 0",
+    Code.ALARM_10743: "SAR programmed more than once in a block, or conflicting SAR words",
+    Code.ALARM_10744: "SAR: no valid approach or retraction direction (e.g. a zero-length contour block)",
+    Code.ALARM_10747: "SAR: retraction direction undefined (G143, or G140 without compensation, with an implicit end)",
+    Code.ALARM_10748: "SAR: illegal retraction plane (DISRP)",
+    Code.ALARM_10750: "G41/G42 selected without an active tool edge (T/D)",
+    Code.ALARM_10751: "collision danger: no intersection found (G461/G462, unresolved inside corner, degenerate "
+    "offset, or a possible contour violation under --strict)",
+    Code.ALARM_10753: "compensation selected in a circular block",
+    Code.ALARM_10754: "compensation deselected in a circular block",
+    Code.ALARM_10755: "KONT approach impossible: the start point lies within the tool radius of the contour start",
+    Code.ALARM_10756: "KONT retraction impossible: the end point lies within the tool radius of the contour end",
+    Code.ALARM_10757: "plane change while compensation is active",
+    Code.ALARM_10758: "curvature radius too small for the (variable) compensation value",
+    Code.ALARM_10762: "too many blocks without plane motion in a row (MD20250)",
+    Code.ALARM_10763: "warning: a block was omitted by bottleneck detection (CDON); the program continues",
+    Code.ALARM_14153: "toolholder: kinematic type other than T, P or M",
+    Code.NC_SYNTAX: "the program text cannot be read (bad word, number, bracket or comment)",
+    Code.NC_UNSUPPORTED: "a language feature trcopt does not model (named in the message); the plan stops",
+    Code.NC_UNSUPPORTED_WORD: "a word trcopt does not model; it is reported, never silently dropped",
+    Code.NC_UNSUPPORTED_EXPR: "an expression trcopt cannot evaluate",
+    Code.NC_ARC_RADIUS: "arc end point not on the circle within the end-radius tolerance, or a zero radius",
+    Code.NC_ARC_CENTRE: "circular block without centre (I/J/K) or radius (CR=)",
+    Code.NC_DISC_CLAMPED: "DISC above MD20220 was clamped",
+    Code.NC_G95: "feed per revolution (G95) is timed as feed per minute",
+    Code.NC_NO_END: "warning: the program has no end (M2/M30)",
+    Code.NC_NO_FEED: "warning: no feed programmed for a G1/G2/G3 block",
+    Code.NC_SAR_PARAM: "a SAR parameter (DISR, DISCL, DISRP, FAD) has an invalid value",
+    Code.NC_TOOL_TYPE: "the tool type is not a milling tool; the compensation side check does not apply",
+    Code.NC_INTERNAL: "an internal error while reading a block (a bug: please report the program)",
+    Code.TRC_CONTOUR_VIOLATION: "warning: a CDOF offset runs against its programmed element (possible contour "
+    "violation); --strict makes it alarm 10751",
+    Code.TRC_SIDE_CHANGE: "compensation side changed (G41↔G42) without deselecting first",
+    Code.TRC_ACTIVE_AT_END: "warning: the program ends with compensation still on",
+    Code.TRC_KONTT_BLOCK: "KONTT/KONTC needs a linear approach block in the plane",
+    Code.SAR_PREPROCESSING_STOP: "a preprocessing stop between a SAR block and its tangent block (no alarm number "
+    "in the manuals)",
+    Code.HH_SYNTAX: "a Klartext block or APPR/DEP parameter cannot be read",
+    Code.HH_TOOL_RADIUS_TOO_LARGE: "Heidenhain \"Tool radius too large\": an offset element reverses or vanishes, or "
+    "an APPR/DEP arc is too small",
+    Code.HH_TRC_SIDE_SWITCH: "RL↔RR changed without an R0 block",
+    Code.HH_TRC_IN_CIRCLE: "radius compensation switched on or off in a circle block",
+    Code.HH_TRC_NEG_RADIUS: "negative compensation value (R + DR_TAB + DR_CALL < 0)",
+    Code.HH_CIRCLE_END: "C: the end point is not on the circle about CC",
+    Code.HH_CR_CHORD: "CR: the chord is longer than the diameter, or start and end coincide",
+    Code.HH_CT_NO_TANGENT: "CT without a preceding element, or the end point on its tangent",
+    Code.HH_RND_TOO_LARGE: "RND radius invalid or longer than a neighbouring element allows",
+    Code.HH_CHF_TOO_LARGE: "CHF length invalid or longer than a neighbouring line",
+    Code.HH_CHF_NOT_LINES: "CHF between elements that are not both straight lines",
+    Code.HH_APPR_NO_CONTOUR: "APPR without a following contour element",
+    Code.HH_APPR_NO_FEED: "APPR LCT without a programmed feed rate",
+    Code.HH_APPR_NO_TANGENT: "APPR/DEP: the auxiliary point lies inside the tool-centre circle (no tangent)",
+    Code.HH_APPR_CCA: "APPR/DEP CT: centre angle CCA outside (0°, 360°]",
+    Code.HH_NO_FEED: "FAUTO without a feed in TOOL CALL",
+    Code.HH_NO_POLE: "polar coordinates without a pole (CC)",
+    Code.HH_NO_TOOL: "radius compensation without a TOOL CALL",
+    Code.HH_TOOL_UNKNOWN: "TOOL CALL of a tool that is not in the tool table",
+    Code.HH_PARAXIAL_NOT_PARAXIAL: "R+/R− in a block with more than one plane coordinate",
+    Code.LCNC_TOOL_TABLE: "note: which tool table was read, in which unit",
+    Code.LCNC_TOOL_NOT_FOUND: "the requested tool is not in the tool table",
+    Code.LCNC_ARC_RADIUS: "an R-format arc whose radius cannot reach its end point",
+    Code.LCNC_ENTRY_TOO_SHORT: "the compensation entry move is not longer than the tool radius",
+    Code.LCNC_ENTRY_ARC_TOO_SHORT: "the compensation entry arc radius is not greater than the tool radius",
+    Code.LCNC_CONCAVE_GOUGE: "straight feed into a concave corner the tool cannot reach without gouging",
+    Code.LCNC_CONCAVE_GOUGE_TRAVERSE: "straight traverse into a concave corner the tool cannot reach without gouging",
+    Code.LCNC_CONCAVE_GOUGE_ARC: "arc move into a concave corner the tool cannot reach without gouging",
+    Code.LCNC_ARC_LINE_GOUGE: "arc-to-line corner the compensated tool cannot fit in without gouging",
+    Code.LCNC_ARC_ARC_GOUGE: "arc-to-arc corner the compensated tool cannot fit in without gouging",
+    Code.LCNC_ARC_SAME_CENTER: "arc-to-arc motion between arcs with the same centre",
+    Code.LCNC_ARC_TOO_SMALL: "tool radius not less than the arc radius with compensation",
+    Code.LCNC_COMP_ALREADY_ON: "compensation turned on while already on",
+    Code.LCNC_YZ_PLANE: "compensation in the YZ plane (G19)",
+    Code.LCNC_ARC_AFTER_G40: "the move right after G40 is an arc",
+    Code.TH_VALUE: "a $TC_CARR value is invalid",
+    Code.TH_CHAIN_OPEN: "warning: the toolholder's kinematic chain does not close",
+    Code.TH_IGNORED_L1: "warning: l1 is ignored for a type P toolholder",
+    Code.TH_IGNORED_L4: "warning: l4 is ignored for a type T toolholder",
+    Code.TH_UNDEFINED_PARAM: "a $TC_CARR parameter the toolholder needs is not defined",
+    Code.TH_UNKNOWN_HOLDER: "TCARR selects a toolholder that is not defined",
+    Code.TH_UNKNOWN_WORD: "an orientation word trcopt does not model",
+    Code.TH_UNREACHABLE: "the requested orientation cannot be reached by the toolholder",
+    Code.TH_NO_VALID_SOLUTION: "no solution of the toolholder lies within its limits",
+    Code.TH_LIMIT: "a toolholder angle lies outside its software limits",
+    Code.TIMING: "the time parameterisation failed (section, arc length and block in the message)",
+    Code.TIMING_EMPTY: "nothing to time (empty tool path)",
+    Code.TIMING_FEED: "a segment has no usable feed",
+    Code.TIMING_ZERO_LENGTH: "a zero-length segment cannot be timed",
+    Code.TIMING_STUCK: "the reachability solver made no progress along a section",
+    Code.TIMING_TOPPRA: "toppra failed on a polynomial section",
+    Code.TIMING_JERK_GRID: "the jerk-limited problem of a section has a degenerate grid",
+    Code.TIMING_JERK_SOLVER: "IPOPT failed on a jerk-limited section (the acceleration-limited feed is kept)",
+    Code.SOLVER: "an optimisation problem failed",
+    Code.SOLVER_INFEASIBLE: "an optimisation problem is infeasible (the binding constraint is named)",
+    Code.TRCOPT: "an error without a more specific code",
+    Code.USAGE: "a command-line or API argument is invalid (the valid options are listed)",
+    Code.IO: "a file cannot be read or written",
+    Code.CONFIG: "a machine, tool-table or settings file is invalid (the key is named)",
+    Code.GEOMETRY: "invalid geometry (zero-length element, inconsistent arc)",
+    Code.GCODE: "a G-code writer option is invalid or a segment cannot be written",
+    Code.PLAN_JSON: "the plan JSON cannot be written (e.g. a non-finite number)",
+    Code.SCHEMA: "a plan JSON document does not follow the schema",
+    Code.DXF_MISSING: "DXF export needs the optional package ezdxf (pip install 'trcopt[dxf]')",
+}
+
+_FAMILIES = {
+    "NC": "reading programs",
+    "TRC": "compensation",
+    "SAR": "SINUMERIK SAR",
+    "HH": "Heidenhain TNC",
+    "LCNC": "LinuxCNC",
+    "TH": "toolholder",
+    "TIMING": "timing",
+    "SOLVER": "optimisation",
+}
+
+
+def family(code: Code | str) -> str:
+    """The family a code belongs to (the table of the module docstring)."""
+    text = str(Code(code))
+    if text.isdigit():
+        return "SINUMERIK alarm"
+    return _FAMILIES.get(text.split("-", 1)[0], "usage, files and outputs")
