@@ -23,8 +23,8 @@ if TYPE_CHECKING:
 __all__ = ["add_arguments", "add_check_arguments", "run_plan", "run_check"]
 
 
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    """The arguments of ``trcopt plan``."""
+def _add_reading_arguments(p: argparse.ArgumentParser) -> None:
+    """What selects how a program is read and compensated (``plan`` and ``check`` alike)."""
     p.add_argument("program", help="part program (.mpf/.spf Siemens, .h Heidenhain, .ngc RS274NGC)")
     p.add_argument("--dialect", default="auto", choices=["auto", *controllers.dialects()])
     p.add_argument(
@@ -40,6 +40,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--tool-unit", default=ToolUnit.INCH.value, choices=[u.value for u in ToolUnit],
         help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
     )
+    p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The arguments of ``trcopt plan``."""
+    _add_reading_arguments(p)
     p.add_argument("--json", metavar="F", help="write the plan JSON (schema trcopt.plan/1)")
     p.add_argument("--gcode", metavar="F", help="write plain tool-centre G-code (G40 only)")
     p.add_argument(
@@ -64,16 +70,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--workers", type=_workers, default=0,
         help="processes for --corners optimal and --jerk (default 0: one per CPU core)",
     )
-    p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
     p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
     p.set_defaults(handler=run_plan)
 
 
 def add_check_arguments(p: argparse.ArgumentParser) -> None:
-    """The arguments of ``trcopt check``."""
-    p.add_argument("program")
-    p.add_argument("--dialect", default="auto", choices=["auto", *controllers.dialects()])
-    p.add_argument("--strict", action="store_true")
+    """The arguments of ``trcopt check``: those of ``plan`` that read and compensate."""
+    _add_reading_arguments(p)
     p.set_defaults(handler=run_check)
 
 
