@@ -5,11 +5,12 @@ Run:  python benchmarks/bench_corners.py [problem.mpf ...] [--eps 0.01,0.1]
 
 Every plan is timed by trcopt's timing stage on the default machine. For each blended plan the
 independent no-gouge check (tests/gouge.py) and the sampled cut-part deviation
-(:func:`trcopt.optimize.corners.blend.cut_deviation`) are reported.
+(:func:`trcopt.optimize.corners.boundary.cut_deviation`) are reported.
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import time
@@ -23,7 +24,8 @@ from bench_timing import grbl_jd  # noqa: E402
 
 from tests.gouge import gouges  # noqa: E402
 from trcopt.config import DEFAULT_MACHINE  # noqa: E402
-from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
+from trcopt.modes import TransitionKind  # noqa: E402
+from trcopt.optimize.corners import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
@@ -32,15 +34,15 @@ DEFAULT = ["corner_30deg", "pocket_square", "star_g451", "cam_quarter_circle"]
 
 
 def main(argv: list[str]) -> None:
-    eps_list = [0.01, 0.1]
-    names = []
-    it = iter(argv)
-    for a in it:
-        if a == "--eps":
-            eps_list = [float(e) for e in next(it).split(",")]
-        else:
-            names.append(a)
-    files = [Path(n) for n in names] or [ROOT / "problems" / "corners" / f"{n}.mpf" for n in DEFAULT]
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("programs", nargs="*", type=Path, help=f"part programs (default: {', '.join(DEFAULT)})")
+    parser.add_argument(
+        "--eps", type=lambda text: [float(e) for e in text.split(",")], default=[0.01, 0.1],
+        help="contour tolerances, mm, comma-separated (default 0.01,0.1)",
+    )
+    args = parser.parse_args(argv)
+    eps_list = args.eps
+    files = args.programs or [ROOT / "problems" / "corners" / f"{n}.mpf" for n in DEFAULT]
     m = DEFAULT_MACHINE
     hdr = (
         f"{'contour':20s} {'eps':>6s} {'T_exact':>8s} {'T_arc':>8s} {'T_opt':>8s} {'exact/opt':>9s} "
@@ -64,7 +66,8 @@ def main(argv: list[str]) -> None:
                 f"{f.stem:20s} {eps:6.3f} {t_exact:8.4f} {t_arc:8.4f} {t_opt:8.4f} {t_exact / t_opt:9.3f} "
                 f"{t_arc / t_opt:8.4f} {t_jd:7.4f} {jd_ratio:7.1f} {res_arc.max_deviation_mm:8.5f} "
                 f"{res.max_deviation_mm:8.5f} {g:4d} {res.blended:3d}/{len(res.corners):<4d} "
-                f"{res.count('quintic'):3d}/{res.count('spline'):3d}/{res.count('arc'):<3d} {wall:7.2f}",
+                f"{res.count(TransitionKind.QUINTIC):3d}/{res.count(TransitionKind.SPLINE):3d}/"
+                f"{res.count(TransitionKind.ARC):<3d} {wall:7.2f}",
                 flush=True,
             )
 

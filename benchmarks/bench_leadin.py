@@ -4,7 +4,7 @@ For every golden problem that plans without alarm and has a compensated contour,
 (trcopt.optimize.optimal_lead: start point = tool position before TRC activation, the program's
 R, side and feed, rho_min = 3 mm, safety = 1 mm, embedded machine) is compared with G147, G247
 and G347 with default parameters (DISR = max(rho_min, R), DISCL = 0, G340, G140; see
-trcopt/optimize/lead_io.py). Time = traverse time of lead + first contour element from the timing
+trcopt/optimize/leads/report.py). Time = traverse time of lead + first contour element from the timing
 stage (same objective for all). Ratios < 1 mean the optimum is faster / shorter. A SAR default
 that gouges (clearance < R + safety away from P4, or < R anywhere) is marked with '!'.
 
@@ -13,6 +13,7 @@ that gouges (clearance < R + safety away from P4, or < R anywhere) is marked wit
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from pathlib import Path
@@ -40,7 +41,9 @@ def suite(quick: bool = False) -> list[Path]:
 
 
 def main(argv: list[str]) -> int:
-    quick = "--quick" in argv
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("--quick", action="store_true", help="every fourth problem only")
+    quick = parser.parse_args(argv).quick
     rows = []
     header = f"{'problem':38s} {'lead':9s} {'L_opt':>7s} {'T_opt':>7s} | " + " | ".join(
         f"{c}: {'L':>6s} {'T':>6s} {'T/T':>5s} {'L/L':>5s}" for c in ("G147", "G247", "G347")

@@ -222,7 +222,7 @@ def main(big: bool = False, use_cache: bool = True) -> None:
                 walls.append(time.perf_counter() - t0)
             wall = float(np.median(walls))
             rep = traj.check_limits(1e-4)
-            from trcopt.timing.report import max_jerk
+            from trcopt.timing.checks import max_jerk
             jerk = float(max_jerk(traj, 1e-3).max())
             limits = machine.name[:5]
             rows.append(

@@ -25,7 +25,7 @@ __all__ = [
     "LeadSide",
     "Segmentation",
     "RetractEnd",
-    "CornerTransition",
+    "TransitionKind",
     "ToolUnit",
 ]
 
@@ -144,12 +144,13 @@ class RetractEnd(enum.Enum):
     NONE = "none"  # no geometry axis: the lead ends in P2 (= P1 = P0)
 
 
-class CornerTransition(enum.Enum):
-    """What replaces a tangent discontinuity of the tool path (``--corners``)."""
+class TransitionKind(enum.Enum):
+    """The curve that replaced one corner of the tool path (the corner strategies are named in
+    :mod:`trcopt.optimize.corners.strategies`, not here)."""
 
-    EXACT = "exact"
-    OPTIMAL = "optimal"
-    ARC = "arc"
+    QUINTIC = "quintic"  # G2 quintic Hermite curve of one corner
+    SPLINE = "spline"  # G2 spline across a run of small corners or a curvature jump
+    ARC = "arc"  # circular blend (G1)
 
 
 class ToolUnit(enum.Enum):

@@ -13,9 +13,11 @@ from typing import TYPE_CHECKING, Any
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from trcopt.modes import CornerTransition, ToolUnit, parse_enum
+from trcopt.modes import ToolUnit, TransitionKind, parse_enum
 from trcopt.nc.model import NcProgram
+from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
+from trcopt.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from trcopt.controllers.base import Controller
@@ -53,10 +55,11 @@ class PlanOptions:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
         heidenhain); by default the readers look beside the program.
     corners, tolerance_mm:
+        The corner strategy by its registry name (:mod:`trcopt.optimize.corners.strategies`):
         ``exact`` (the controller's path), or feed-optimised transitions within the contour
         tolerance ε (mm) at every tangent discontinuity: ``optimal`` (G2 quintics by SQP/OSQP) or
         ``arc`` (same-ε circular blends, the usual controller smoothing). Applied after the
-        verification of the exact path and before timing.
+        verification of the exact path and before timing. An unknown name is a usage error.
     jerk:
         Replace the acceleration-limited feed by the jerk-limited one
         (:func:`trcopt.timing.jerk.jerk_limited`, CasADi/IPOPT per section, warm-started from
@@ -75,7 +78,7 @@ class PlanOptions:
     strict: bool = False
     tool_table: str | None = None
     tool_unit: ToolUnit = ToolUnit.INCH
-    corners: CornerTransition = CornerTransition.EXACT
+    corners: str = corner_strategies.EXACT
     tolerance_mm: float = 0.01
     jerk: bool = False
     workers: int = 1
@@ -83,7 +86,10 @@ class PlanOptions:
     def __post_init__(self) -> None:
         # strings are accepted here, at the boundary, and become modes
         object.__setattr__(self, "tool_unit", parse_enum(ToolUnit, self.tool_unit, "tool unit"))
-        object.__setattr__(self, "corners", parse_enum(CornerTransition, self.corners, "corner mode"))
+        try:
+            object.__setattr__(self, "corners", corner_strategies.get(self.corners).name)
+        except ValueError as exc:
+            raise TrcoptError(f"--corners: {exc}", code="USAGE") from None
 
 
 @dataclass(slots=True)
@@ -96,7 +102,7 @@ class PlanResult:
     programmed: list[Segment]
     toolpath: list[Segment]
     diagnostics: list[Diagnostic]
-    timing: Any = None  # trcopt.timing.TimedTrajectory when computed
+    timing: Trajectory | None = None  # acceleration- or jerk-limited feed, when computed
     extra: dict[str, Any] = field(default_factory=dict)
     verification: Any = None  # trcopt.optimize.VerificationReport when computed
 
@@ -149,9 +155,9 @@ class PlanResult:
             f"{self.program}: {self.dialect}, {self.nc.blocks} blocks, "
             f"{len(self.toolpath)} tool-centre segments, path length {self.path_length:.3f} mm",
         ]
-        if self.duration is not None:
-            kind = "jerk-limited " if getattr(self.timing, "jerk_limited", False) else ""
-            lines.append(f"{kind}cycle time {self.duration:.3f} s on {self.timing.machine.name}")
+        if self.timing is not None:
+            kind = "jerk-limited " if self.timing.jerk_limited else ""
+            lines.append(f"{kind}cycle time {self.timing.duration:.3f} s on {self.timing.machine.name}")
         corners = self.extra.get("corners")
         if corners:
             lines.append(
@@ -216,7 +222,7 @@ def plan(
 
         result.verification = verify_plan(programmed, toolpath, moves, settings)
         result.extra["verification"] = result.verification.to_json()
-    if opts.corners is not CornerTransition.EXACT and toolpath and result.ok:
+    if opts.corners != corner_strategies.EXACT and toolpath and result.ok:
         from trcopt.optimize.corners.blend import blend_corners
 
         objective = "jerk" if opts.jerk and _has_xy_jerk(opts.machine) else "curvature"
@@ -236,14 +242,14 @@ def plan(
         )
         result.toolpath = toolpath = blended.segments
         result.extra["corners"] = {
-            "mode": opts.corners.value,
+            "mode": opts.corners,
             "tolerance_mm": opts.tolerance_mm,
-            "objective": objective if opts.corners is CornerTransition.OPTIMAL else None,
+            "objective": blended.objective,
             "blended": blended.blended,
-            "quintic": blended.count("quintic"),
-            "spline": blended.count("spline"),
+            "quintic": blended.count(TransitionKind.QUINTIC),
+            "spline": blended.count(TransitionKind.SPLINE),
             "curvature_jumps": blended.curvature_jumps,
-            "arc": blended.count("arc"),
+            "arc": blended.count(TransitionKind.ARC),
             "max_deviation_mm": blended.max_deviation_mm,
         }
     if opts.timing and toolpath:
@@ -289,20 +295,22 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
     except ImportError:  # the timing stage is optional at this layer
         return
     try:
-        result.timing = time_parameterize(result.toolpath, machine)
+        acceleration_limited = time_parameterize(result.toolpath, machine)
     except TrcoptError as exc:
         _timing_warning(result, exc, "timing not computed")
         return
+    result.timing = acceleration_limited
     if jerk:
         from trcopt.timing.jerk import jerk_limited
 
         try:
-            result.timing = jerk_limited(result.toolpath, machine, base=result.timing, workers=workers)
+            jerk_limited_feed = jerk_limited(result.toolpath, machine, base=acceleration_limited, workers=workers)
         except TrcoptError as exc:
             _timing_warning(result, exc, "jerk-limited feed not computed (the acceleration-limited feed is kept)")
             return
+        result.timing = jerk_limited_feed
         # never silently wrong: the profile is re-checked against every limit
-        rep = result.timing.check_limits(dt=JERK_CHECK_DT_S)
+        rep = jerk_limited_feed.check_limits(dt=JERK_CHECK_DT_S)
         if not rep.ok:
             from trcopt.errors import TimingError
 

@@ -1,4 +1,4 @@
-"""Atomic text output: replace in one step, no leftovers, OSError -> OutputError with the path."""
+"""Atomic text and bytes output: replace in one step, no leftovers, OSError -> OutputError with the path."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import os
 import pytest
 
 from trcopt.errors import TrcoptError
-from trcopt.io.atomic import OutputError, write_text_atomic
+from trcopt.io.atomic import OutputError, write_bytes_atomic, write_text_atomic
 
 
 def test_writes_and_replaces(tmp_path):
@@ -39,3 +39,33 @@ def test_failure_during_replace_keeps_the_old_file(tmp_path, monkeypatch):
         write_text_atomic(p, "new")
     assert p.read_text() == "complete old file"
     assert os.listdir(tmp_path) == ["a.svg"]  # the temporary file was removed
+
+
+def test_bytes_are_written_unchanged_and_replace(tmp_path):
+    p = tmp_path / "a.png"
+    write_bytes_atomic(p, b"old")
+    data = bytes(range(256)) + b"\r\n\n"
+    assert write_bytes_atomic(p, data) == p
+    assert p.read_bytes() == data
+    assert os.listdir(tmp_path) == ["a.png"]
+
+
+def test_text_keeps_its_line_ends(tmp_path):
+    p = tmp_path / "a.csv"
+    write_text_atomic(p, "t_s,block\r\n0.0,N10\r\n")
+    assert p.read_bytes() == b"t_s,block\r\n0.0,N10\r\n"
+
+
+def test_bytes_failure_during_replace_keeps_the_old_file(tmp_path, monkeypatch):
+    p = tmp_path / "a.png"
+    p.write_bytes(b"complete old file")
+
+    def boom(src, dst):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "replace", boom)
+    with pytest.raises(OutputError, match="No space left") as info:
+        write_bytes_atomic(p, b"new")
+    assert info.value.path == str(p)
+    assert p.read_bytes() == b"complete old file"
+    assert os.listdir(tmp_path) == ["a.png"]

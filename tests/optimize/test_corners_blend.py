@@ -13,9 +13,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gouge import gouges  # noqa: E402
 
 from trcopt.geometry import Poly  # noqa: E402
-from trcopt.modes import CornerTransition, parse_enum  # noqa: E402
-from trcopt.optimize.corners.blend import blend_corners, cut_deviation, find_corner_sites  # noqa: E402
-from trcopt.optimize.corners.qp import CornerBlendProblem  # noqa: E402
+from trcopt.optimize.corners import (  # noqa: E402
+    CornerBlendProblem,
+    blend_corners,
+    cut_deviation,
+    find_corner_sites,
+    strategies,
+)
 from trcopt.path import Role  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.solution import SolveStatus  # noqa: E402
@@ -65,7 +69,7 @@ def test_optimal_solution_status_and_g2_joints(corner):
     # curvature continuity: the neighbours are lines, the quintic starts and ends with κ = 0
     C = np.array([rec.solution.geometry.p0, rec.solution.geometry.d0, rec.solution.geometry.a0,
                   rec.solution.geometry.a1, rec.solution.geometry.d1, rec.solution.geometry.p1])
-    from trcopt.optimize.corners.qp import quintic_basis
+    from trcopt.optimize.corners.curves import quintic_basis
 
     _, H1, H2 = quintic_basis(np.array([0.0, 1.0]))
     d1, d2 = H1 @ C, H2 @ C
@@ -98,17 +102,19 @@ def test_cycle_time_faster_than_exact_stop_not_slower_than_arc(corner):
 def test_exact_mode_is_identity_and_modes_are_validated(corner):
     r, _, _ = corner
     assert blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="exact").segments == list(r.toolpath)
-    assert parse_enum(CornerTransition, "arc") is CornerTransition.ARC
+    assert strategies.get(" ARC ").name == "arc"
     with pytest.raises(ValueError, match="valid: exact, optimal, arc"):
-        parse_enum(CornerTransition, "smooth")
+        strategies.get("smooth")
+    with pytest.raises(ValueError, match="valid: exact, optimal, arc"):
+        blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="smooth")
 
 
 def test_corner_problems_in_worker_processes_match_in_process(monkeypatch):
-    import trcopt.optimize.corners.blend as corners_mod
+    import trcopt.optimize.corners.optimal as optimal_mod
 
     r = plan_file(ROOT / "problems" / "corners" / "pocket_square.mpf", PlanOptions(timing=False))
     serial = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
-    monkeypatch.setattr(corners_mod, "PARALLEL_MIN_CORNERS", 2)
+    monkeypatch.setattr(optimal_mod, "PARALLEL_MIN_CORNERS", 2)
     parallel = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", workers=2)
     assert serial.blended == parallel.blended == 4
     assert [s.geometry.end for s in serial.segments] == [s.geometry.end for s in parallel.segments]

@@ -15,7 +15,8 @@ from gouge import gouges  # noqa: E402
 
 from trcopt.cli import main  # noqa: E402
 from trcopt.geometry import Line, Poly  # noqa: E402
-from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
+from trcopt.modes import TransitionKind  # noqa: E402
+from trcopt.optimize.corners import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
@@ -52,7 +53,7 @@ def test_outside_run_is_one_spline_flatter_than_the_r_circle(outside):
     # circle of radius R around the vertex: curvature ≥ 1/R = 0.333/mm. One spline across the
     # run may leave ε between the vertices and follows the circle R 20 + 3 the chords approximate.
     r, res = outside
-    assert res.count("spline") == len(res.corners) == 15
+    assert res.count(TransitionKind.SPLINE) == len(res.corners) == 15
     kmax = max(c.max_curvature for c in res.corners)
     assert 1 / 23.0 < kmax < 0.1
     assert res.max_deviation_mm <= EPS
@@ -85,12 +86,12 @@ def test_spline_beats_circular_blends_and_per_corner_g2(outside):
     # and their mix (never slower than the circular blends)
     r, spline = outside
     single = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
-    assert single.count("spline") == 0 and min(c.max_curvature for c in single.corners) > 1 / RADIUS - 1e-6
+    assert single.count(TransitionKind.SPLINE) == 0 and min(c.max_curvature for c in single.corners) > 1 / RADIUS - 1e-6
     chosen = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
     t_spline, t_single = time_parameterize(spline.segments).duration, time_parameterize(single.segments).duration
     # 16 mm of chords between a lead-in and a lead-out, which take most of the cycle time
     assert t_spline < 0.99 * t_single < time_parameterize(r.toolpath).duration
-    assert chosen.count("spline") == 15
+    assert chosen.count(TransitionKind.SPLINE) == 15
     assert time_parameterize(chosen.segments).duration == pytest.approx(t_spline, rel=1e-12)
 
 
@@ -101,14 +102,14 @@ def test_inside_run_never_slower_than_circular_blends():
     assert time_parameterize(res.segments).duration <= time_parameterize(arc.segments).duration * (1 + 1e-12)
     assert res.max_deviation_mm <= EPS and not gouges(r.programmed, res.segments)
     forced = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
-    assert forced.count("spline") == 7
+    assert forced.count(TransitionKind.SPLINE) == 7
     assert forced.max_deviation_mm <= EPS and not gouges(r.programmed, forced.segments)
 
 
 def test_two_small_corners_are_not_a_run():
     r = plan(_cam_arc("G42", 3), options=PlanOptions(timing=False))
     res = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
-    assert res.count("spline") == 0 and res.count("quintic") == 2
+    assert res.count(TransitionKind.SPLINE) == 0 and res.count(TransitionKind.QUINTIC) == 2
 
 
 def test_cli_reports_spline_corners(tmp_path, capsys):
@@ -129,7 +130,7 @@ def test_long_runs_are_split_into_splines_that_meet_mid_chord(outside, monkeypat
     r, whole = outside
     monkeypatch.setattr(chain_mod, "CHAIN_MAX_CORNERS", 7)
     split = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
-    assert split.count("spline") == 15
+    assert split.count(TransitionKind.SPLINE) == 15
     polys = [s for s in split.segments if isinstance(s.geometry, Poly)]
     # 15 corners in runs of 5 (16 elements; the two shared chords hold the end of one spline and the
     # start of the next, so 18 pieces)

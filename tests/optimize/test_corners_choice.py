@@ -13,7 +13,8 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from gouge import gouges  # noqa: E402
 
-from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
+from trcopt.modes import TransitionKind  # noqa: E402
+from trcopt.optimize.corners import blend_corners  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 
@@ -50,16 +51,17 @@ def test_never_slower_than_circular_blends_and_within_tolerance(inside):
     t_exact = time_parameterize(inside.toolpath).duration
     assert t_opt <= t_arc * (1 + 1e-12) < t_exact
     assert opt.blended == len(opt.corners) == 5
-    assert opt.count("quintic") + opt.count("arc") == 5
-    assert all(c.transition in ("quintic", "arc") and c.solution is not None for c in opt.corners)
+    assert opt.count(TransitionKind.QUINTIC) + opt.count(TransitionKind.ARC) == 5
+    transitions = (TransitionKind.QUINTIC, TransitionKind.ARC)
+    assert all(c.transition in transitions and c.solution is not None for c in opt.corners)
     # every circular corner says why
-    assert all(c.reason for c in opt.corners if c.transition == "arc")
+    assert all(c.reason for c in opt.corners if c.transition is TransitionKind.ARC)
     assert opt.max_deviation_mm <= EPS and not gouges(inside.programmed, opt.segments)
 
 
 def test_without_selection_g2_transitions_are_kept(inside):
     g2 = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", select=False, chains=False)
-    assert g2.count("quintic") == 5 and g2.count("arc") == 0
+    assert g2.count(TransitionKind.QUINTIC) == 5 and g2.count(TransitionKind.ARC) == 0
     assert g2.max_deviation_mm <= EPS and not gouges(inside.programmed, g2.segments)
 
 
@@ -72,7 +74,7 @@ def test_outside_corners_of_small_deflection_keep_r_from_the_programmed_vertex()
     assert r.ok
     g2 = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False, chains=False)
     arc = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="arc")
-    assert g2.blended == arc.blended == 5 and g2.count("quintic") == 5
+    assert g2.blended == arc.blended == 5 and g2.count(TransitionKind.QUINTIC) == 5
     for q, c in zip(g2.corners, arc.corners, strict=True):
         assert c.max_curvature == pytest.approx(1 / 3.0, rel=1e-5)
         assert 1 / 3.0 < q.max_curvature < 1.2 / 3.0
@@ -83,11 +85,11 @@ def test_outside_corners_of_small_deflection_keep_r_from_the_programmed_vertex()
 
 
 def test_per_corner_mix_is_timed_and_kept_only_when_faster(inside, monkeypatch):
-    import trcopt.optimize.corners.blend as corners_mod
+    import trcopt.optimize.corners.selection as selection_mod
 
     # force a mix (odd corners G2, even circular) through the local estimate
     calls = iter(range(100))
-    monkeypatch.setattr(corners_mod, "_local_time", lambda *a: -1.0 if next(calls) % 2 else 1.0)
+    monkeypatch.setattr(selection_mod, "_local_time", lambda *a: -1.0 if next(calls) % 2 else 1.0)
     opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
     arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
     assert time_parameterize(opt.segments).duration <= time_parameterize(arc.segments).duration * (1 + 1e-12)

@@ -15,8 +15,8 @@ from gouge import gouges  # noqa: E402
 from trcopt.cli import main  # noqa: E402
 from trcopt.config import DEFAULT_MACHINE, AxisLimits, Machine  # noqa: E402
 from trcopt.errors import ConfigError  # noqa: E402
-from trcopt.optimize.corners.blend import blend_corners, find_corner_sites  # noqa: E402
-from trcopt.optimize.corners.qp import CornerBlendProblem  # noqa: E402
+from trcopt.modes import TransitionKind  # noqa: E402
+from trcopt.optimize.corners import CornerBlendProblem, blend_corners, find_corner_sites  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 from trcopt.timing.jerk import jerk_limited  # noqa: E402
 
@@ -108,7 +108,7 @@ N60 M30
 @pytest.mark.parametrize("chains", [False, True])
 def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_objective(chains):
     from trcopt.geometry import Arc, Poly
-    from trcopt.optimize.corners.blend import JUMP_SMOOTHED
+    from trcopt.optimize.corners import JUMP_SMOOTHED
     from trcopt.path import Role
     from trcopt.pipeline import plan
 
@@ -122,12 +122,13 @@ def test_g450_transition_circle_is_replaced_by_a_g2_transition_under_the_jerk_ob
     res = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, select=False, objective="jerk", chains=chains)
     if chains:
         # the circle's two curvature jumps as one G2 spline from line to line (a piece per element)
-        assert [(c.blended, c.transition, c.reason) for c in res.corners] == [(True, "spline", JUMP_SMOOTHED)] * 2
+        smoothed = (True, TransitionKind.SPLINE, JUMP_SMOOTHED)
+        assert [(c.blended, c.transition, c.reason) for c in res.corners] == [smoothed] * 2
         assert res.curvature_jumps == 2
     else:
         # a quintic SQP transition replaces the circle
         (rec,) = res.corners
-        assert rec.blended and rec.transition == "quintic", rec.reason
+        assert rec.blended and rec.transition is TransitionKind.QUINTIC, rec.reason
     corner = [s for s in res.segments if s.role is Role.CORNER]
     assert len(corner) == (3 if chains else 1) and all(isinstance(c.geometry, Poly) for c in corner)
     # the transition stays outside the circle around the vertex: the vertex keeps at least R (no

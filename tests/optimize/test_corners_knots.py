@@ -18,9 +18,10 @@ from test_random_contours import _program, _simple_turning, contours  # noqa: E4
 
 from trcopt.compensation import compensate, programmed_segment  # noqa: E402
 from trcopt.geometry import Arc, Line, Poly  # noqa: E402
-from trcopt.optimize.corners.blend import JUMP_SMOOTHED, blend_corners, cut_deviation  # noqa: E402
+from trcopt.modes import TransitionKind  # noqa: E402
+from trcopt.optimize.corners import JUMP_SMOOTHED, blend_corners, cut_deviation  # noqa: E402
 from trcopt.optimize.corners.chain import KNOT_SIDE_LENGTHS, knot_length  # noqa: E402
-from trcopt.optimize.corners.qp import signed_curvature  # noqa: E402
+from trcopt.optimize.corners.curves import signed_curvature  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan_file  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2] / "problems" / "corners"
@@ -47,7 +48,7 @@ def test_jerk_objective_replaces_every_jump_by_a_g2_spline_within_tolerance(plan
     name, r = planned
     res = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, objective="jerk", select=False)
     jumps = [c for c in res.corners if c.reason == JUMP_SMOOTHED]
-    assert len(jumps) == 4 and all(c.transition == "spline" and c.blended for c in jumps)
+    assert len(jumps) == 4 and all(c.transition is TransitionKind.SPLINE and c.blended for c in jumps)
     assert all(abs(c.turn_deg) < 1e-4 and not c.inside for c in jumps)
     # the cut part: at most ε of material left, nothing removed (independent check)
     assert res.max_deviation_mm <= EPS

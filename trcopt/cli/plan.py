@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
 from trcopt.errors import Severity
-from trcopt.modes import CornerTransition, ToolUnit, parse_enum
+from trcopt.modes import ToolUnit, parse_enum
+from trcopt.optimize.corners import strategies as corner_strategies
 
 if TYPE_CHECKING:
     from trcopt.pipeline import PlanOptions, PlanResult
@@ -58,7 +59,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--png", metavar="F", help="write a speed-profile picture (PNG or SVG by suffix)")
     p.add_argument("--no-timing", action="store_true", help="skip the time parameterisation")
     p.add_argument(
-        "--corners", default=CornerTransition.EXACT.value, choices=[m.value for m in CornerTransition],
+        "--corners", default=corner_strategies.EXACT, choices=corner_strategies.names(),
         help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
     )
     p.add_argument("--tolerance", type=float, default=0.01, help="contour tolerance for --corners, mm (default 0.01)")
@@ -93,7 +94,7 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         strict=args.strict,
         tool_table=getattr(args, "tool_table", None),
         tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.INCH), "tool unit"),
-        corners=getattr(args, "corners", "exact"),
+        corners=getattr(args, "corners", corner_strategies.EXACT),
         tolerance_mm=getattr(args, "tolerance", 0.01),
         jerk=getattr(args, "jerk", False),
         workers=getattr(args, "workers", 1),
@@ -166,9 +167,13 @@ def run_plan(args: argparse.Namespace) -> int:
             err("--csv/--png need the timing stage (drop --no-timing; see the diagnostics above)")
             return EXIT_USAGE
         if args.csv:
-            result.timing.write_csv(args.csv)
+            from trcopt.io.feed_csv import write_feed_csv
+
+            write_feed_csv(result.timing, args.csv)
         if args.png:
-            result.timing.plot_speed(args.png)
+            from trcopt.io.plot import plot_speed
+
+            plot_speed(result.timing, args.png)
     return EXIT_OK if result.ok else EXIT_ALARM
 
 

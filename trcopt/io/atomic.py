@@ -1,6 +1,6 @@
-"""Atomic text output: a failure never leaves a half-written file behind.
+"""Atomic output of text and bytes: a failure never leaves a half-written file behind.
 
-The text goes to a temporary file in the destination's folder (same file system, so the final
+The content goes to a temporary file in the destination's folder (same file system, so the final
 ``os.replace`` is atomic) which then replaces the destination in one step.
 """
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 from trcopt.errors import TrcoptError
 
-__all__ = ["OutputError", "write_text_atomic"]
+__all__ = ["OutputError", "write_text_atomic", "write_bytes_atomic"]
 
 
 class OutputError(TrcoptError, OSError):
@@ -43,13 +43,32 @@ def write_text_atomic(path: str | os.PathLike[str], text: str, *, encoding: str 
         The folder does not exist, is not writable, or the disk is full; the destination is left
         untouched and no temporary file remains.
     """
+    return write_bytes_atomic(path, text.encode(encoding))
+
+
+def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically and return the path.
+
+    Parameters
+    ----------
+    path:
+        Destination file; its folder must exist.
+    data:
+        Complete file content (a rendered picture, or encoded text).
+
+    Raises
+    ------
+    OutputError
+        The folder does not exist, is not writable, or the disk is full; the destination is left
+        untouched and no temporary file remains.
+    """
     dest = Path(path)
     folder = dest.parent if str(dest.parent) else Path(".")
     tmp_name: str | None = None
     try:
         fd, tmp_name = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=folder)
-        with os.fdopen(fd, "w", encoding=encoding, newline="") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
         # mkstemp creates 0600; give the file the permissions a plain open() would

@@ -1,13 +1,24 @@
-"""Matplotlib pictures of a plan (matplotlib is imported inside the functions)."""
+"""Matplotlib pictures of a plan: the paths, and the speed profile of a timed path.
+
+matplotlib is imported inside the functions, so importing this module stays cheap. A picture
+written to a file is rendered to bytes first and written atomically.
+"""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
+from io import BytesIO
+from pathlib import Path
 from typing import Any
 
+from trcopt.io.atomic import write_bytes_atomic
 from trcopt.path import Role, Segment
+from trcopt.trajectory import Trajectory
 
-__all__ = ["plot_paths"]
+__all__ = ["plot_paths", "plot_speed"]
+
+SPEED_PLOT_SAMPLES = 4000  # samples over the whole profile (at most one every 0.1 ms)
 
 _ROLE_STYLE = {
     Role.CONTOUR: {"color": "tab:blue", "lw": 1.6},
@@ -68,3 +79,80 @@ def plot_paths(
     if title:
         ax.set_title(title)
     return ax
+
+
+def plot_speed(trajectory: Trajectory, path: str | os.PathLike[str] | None = None, *, ax: Any = None) -> Any:
+    """Plot the path speed over arc length and, colour-coded, over the path (X/Y).
+
+    Parameters
+    ----------
+    trajectory:
+        Either kind of timed path; the programmed feed limit is drawn beside its speed (mm/s).
+    path:
+        Picture file to write (format from the suffix, e.g. ``.png`` or ``.svg``; without one
+        matplotlib's default format, whose suffix is appended). Without ``path`` nothing is written
+        and the figure stays open.
+    ax:
+        Two axes ``(speed over s, speed over the path)`` to draw into; a new figure otherwise.
+
+    Returns
+    -------
+    The matplotlib figure.
+
+    Raises
+    ------
+    OutputError
+        The picture cannot be written; an existing file at ``path`` is left untouched.
+    """
+    import matplotlib
+
+    if path is not None:
+        matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.collections import LineCollection
+
+    smp = None
+    if trajectory.segments:
+        smp = trajectory.sample(max(trajectory.duration / SPEED_PLOT_SAMPLES, 1e-4))
+    if ax is None:
+        fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5))
+    else:
+        ax0, ax1 = ax
+        fig = ax0.figure
+    if smp is not None:
+        ax0.plot(smp.s, smp.speed, lw=1.2, label="path speed")
+        ax0.step(smp.s, trajectory.feeds[smp.segment], where="post", lw=0.8, ls="--", label="feed limit")
+        ax0.set_xlabel("s [mm]")
+        ax0.set_ylabel("speed [mm/s]")
+        ax0.set_title(f"feed profile, T = {trajectory.duration:.4f} s")
+        ax0.legend(loc="best")
+        pts = smp.xyz[:, :2]
+        pieces = np.stack((pts[:-1], pts[1:]), axis=1)
+        lc = LineCollection(list(pieces), array=smp.speed[:-1], cmap="viridis", linewidths=2)
+        ax1.add_collection(lc)
+        ax1.autoscale()
+        ax1.set_aspect("equal")
+        ax1.set_xlabel("X [mm]")
+        ax1.set_ylabel("Y [mm]")
+        fig.colorbar(lc, ax=ax1, label="speed [mm/s]")
+        ax1.set_title("speed over the path")
+    if path is not None:
+        fig.tight_layout()
+        dest, image_format = _picture_file(path, fig.canvas.get_default_filetype())
+        picture = BytesIO()
+        fig.savefig(picture, format=image_format)
+        plt.close(fig)
+        write_bytes_atomic(dest, picture.getvalue())
+    return fig
+
+
+def _picture_file(path: str | os.PathLike[str], default_format: str) -> tuple[Path, str]:
+    """The file and format matplotlib's ``savefig(path)`` would use: the suffix names the format;
+    without one the default format is used and its suffix appended."""
+    name = os.fspath(path)
+    image_format = os.path.splitext(name)[1][1:]
+    if not image_format:
+        image_format = default_format
+        name = name.rstrip(".") + "." + image_format
+    return Path(name), image_format.lower()

@@ -4,9 +4,11 @@ The acceleration-limited optimum of :func:`trcopt.timing.time_parameterize` has 
 (spec timing.md §0.7). Here every section of it (a tangent-continuous run that starts and ends at
 rest) is re-solved as a :class:`~trcopt.timing.jerk_problem.JerkProblem`: a CasADi/IPOPT NLP over
 the path-speed profile with per-axis velocity, acceleration and jerk limits, warm-started from the
-acceleration-limited profile. The result, :class:`JerkTrajectory`, has the interface of
+acceleration-limited profile (node placement and speed caps: :mod:`trcopt.timing.jerk_grid`). The
+result, :class:`JerkTrajectory`, satisfies the :class:`~trcopt.trajectory.Trajectory` protocol like
 :class:`~trcopt.timing.TimedTrajectory` (``duration``, ``sample``, ``evaluate``, ``check_limits``,
-``segments_with_times``, ``to_json``, ``write_csv``, ``plot_speed``).
+``segments_with_times``, ``to_json``); its samples carry the jerk, and the report values are in
+:mod:`trcopt.timing.jerk_report`.
 
 **Trajectory model.** Between two nodes the path jerk is constant in time, so ``s(t)`` is a cubic
 and the tool follows the exact geometry; per-axis velocity, acceleration and jerk are evaluated in
@@ -29,107 +31,24 @@ spread over 0.1 ms instead of one cycle.
 
 from __future__ import annotations
 
-import csv
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from trcopt.config import DEFAULT_MACHINE, Machine
-from trcopt.errors import ConfigError, TimingError
+from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.solution import Solution
-from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, path_derivatives, section_label
-from trcopt.timing.path import PathArrays
+from trcopt.timing.checks import axis_triple, max_jerk, path_deviation
+from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_label
+from trcopt.timing.jerk_report import JERK_MEASURE, KNOT_RULE, METHOD, JerkLimitReport, JerkSamples, jerk_limits
+from trcopt.timing.path import PathArrays, path_derivatives
 from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_sections
-from trcopt.timing.trajectory import Samples, TimedTrajectory, sample_times
+from trcopt.timing.trajectory import TimedTrajectory, sample_times
 
-__all__ = ["jerk_limited", "JerkTrajectory", "JerkLimitReport", "JerkSamples", "jerk_limits"]
-
-METHOD = (
-    "jerk-limited: CasADi/IPOPT NLP per section (triple integrator, constant path jerk between nodes fixed "
-    "in arc length; per-axis v, a, jerk limits with exact q', q'', q'''), warm-started from the "
-    "acceleration-limited TOPP profile; speed and acceleration 0 at tangent discontinuities"
-)
-KNOT_RULE = (
-    "curvature jumps passed at |dq''_k| v^2 <= jmax_k * cycle_s "
-    "(the acceleration step is absorbed in one interpolation cycle)"
-)
-JERK_MEASURE = "max(analytic per-axis jerk of the smooth pieces, knot acceleration step / cycle_s) / jmax"
-
-
-def jerk_limits(machine: Machine) -> np.ndarray:
-    """jmax per axis X, Y, Z (mm/s³); ConfigError if an axis has none."""
-    out = []
-    for k in "XYZ":
-        j = machine.axis(k).jmax_mm_s3
-        if j is None:
-            raise ConfigError(
-                f"machine {machine.name!r}: axes.{k} has no jmax_mm_s3; jerk-limited feed needs it on every axis"
-            )
-        out.append(float(j))
-    return np.array(out)
-
-
-@dataclass(frozen=True)
-class JerkSamples(Samples):
-    """:class:`Samples` plus per-axis jerk ``j`` (mm/s³) and path jerk ``sddd`` (mm/s³)."""
-
-    j: np.ndarray
-    sddd: np.ndarray
-
-
-@dataclass(frozen=True)
-class JerkLimitReport:
-    """Result of :meth:`JerkTrajectory.check_limits` (ratios to the limits, max over X, Y, Z each)."""
-
-    ok: bool
-    v_ratio: tuple[float, float, float]
-    a_ratio: tuple[float, float, float]
-    jerk_ratio: tuple[float, float, float]  # the documented measure (smooth pieces and knot steps)
-    jerk_smooth_ratio: tuple[float, float, float]
-    jerk_knot_ratio: tuple[float, float, float]
-    jerk_fd_1khz_ratio: tuple[float, float, float]
-    jerk_fd_10khz_ratio: tuple[float, float, float]
-    feed_ratio: float
-    corner_speed_mm_s: float
-    path_deviation_mm: float
-    tolerance: float
-    jerk_tolerance: float
-    jerk_checked: bool
-    samples: int
-
-    def __str__(self) -> str:
-        def f(r: tuple[float, ...]) -> str:
-            return ", ".join(f"{x:.4f}" for x in r)
-
-        return (
-            f"{'PASS' if self.ok else 'FAIL'}: v/vmax (X,Y,Z) = {f(self.v_ratio)}; a/amax = {f(self.a_ratio)}; "
-            f"j/jmax = {f(self.jerk_ratio)} (knots {f(self.jerk_knot_ratio)}; 1 kHz FD {f(self.jerk_fd_1khz_ratio)}); "
-            f"feed {self.feed_ratio:.4f}; corner speed {self.corner_speed_mm_s:.2e} mm/s; "
-            f"deviation {self.path_deviation_mm:.1e} mm"
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        def d(r: tuple[float, ...]) -> dict[str, float]:
-            return dict(zip("XYZ", r, strict=True))
-
-        return {
-            "ok": self.ok,
-            "v_ratio": d(self.v_ratio),
-            "a_ratio": d(self.a_ratio),
-            "jerk_ratio": d(self.jerk_ratio),
-            "jerk_smooth_ratio": d(self.jerk_smooth_ratio),
-            "jerk_knot_ratio": d(self.jerk_knot_ratio),
-            "jerk_fd_1khz_ratio": d(self.jerk_fd_1khz_ratio),
-            "jerk_fd_10khz_ratio": d(self.jerk_fd_10khz_ratio),
-            "feed_ratio": self.feed_ratio,
-            "corner_speed_mm_s": self.corner_speed_mm_s,
-            "path_deviation_mm": self.path_deviation_mm,
-            "jerk_measure": JERK_MEASURE,
-        }
+__all__ = ["jerk_limited", "JerkTrajectory"]
 
 
 class JerkTrajectory:
@@ -140,7 +59,7 @@ class JerkTrajectory:
     iterations, solve time), ``cycle_s``, and per interval ``t0, s0, h, v0, a0, j, iseg``.
     """
 
-    jerk_limited = True
+    jerk_limited = True  # the Trajectory protocol's flag: samples carry the per-axis jerk
 
     def __init__(
         self,
@@ -268,14 +187,9 @@ class JerkTrajectory:
             float((smp.speed / self.feeds[smp.segment]).max()), float((grid.speed / self.feeds[grid.segment]).max())
         )
         jk = (self.knot_steps() / (self.cycle_s * self.jmax)).max(axis=0) if self.knot_s.size else np.zeros(3)
-        fd = [self._fd_jerk(d) / self.jmax for d in (1e-3, 1e-4)]
+        fd = [max_jerk(self, d) / self.jmax for d in (1e-3, 1e-4)]
         corner = float(np.concatenate([[sol.geometry.v[0], sol.geometry.v[-1]] for sol in self.solutions]).max())
-        dev = 0.0
-        for k in np.linspace(0, grid.t.shape[0] - 1, min(grid.t.shape[0], 64)).astype(int):
-            sg = self.segments[int(grid.segment[k])]
-            local = float(grid.s[k] - self.arrays.start[int(grid.segment[k])])
-            ref = np.array(sg.plane.to_xyz(sg.geometry.point(min(max(local, 0.0), sg.geometry.length))))
-            dev = max(dev, float(np.linalg.norm(ref - grid.xyz[k])))
+        dev = path_deviation(self.segments, self.arrays.start, grid)
         jr = np.maximum(js, jk)
         ok = bool(
             vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
@@ -283,32 +197,23 @@ class JerkTrajectory:
         if jerk:
             ok = ok and bool(jr.max() <= jerk_tolerance)
 
-        def t3(x: np.ndarray) -> tuple[float, float, float]:
-            return (float(x[0]), float(x[1]), float(x[2]))
-
         return JerkLimitReport(
-            ok,
-            t3(vr),
-            t3(ar),
-            t3(jr),
-            t3(js),
-            t3(jk),
-            t3(fd[0]),
-            t3(fd[1]),
-            fr,
-            corner,
-            dev,
-            tolerance,
-            jerk_tolerance,
-            jerk,
-            int(smp.t.shape[0] + grid.t.shape[0]),
+            ok=ok,
+            v_ratio=axis_triple(vr),
+            a_ratio=axis_triple(ar),
+            feed_ratio=fr,
+            corner_speed_mm_s=corner,
+            path_deviation_mm=dev,
+            tolerance=tolerance,
+            samples=int(smp.t.shape[0] + grid.t.shape[0]),
+            jerk_ratio=axis_triple(jr),
+            jerk_smooth_ratio=axis_triple(js),
+            jerk_knot_ratio=axis_triple(jk),
+            jerk_fd_1khz_ratio=axis_triple(fd[0]),
+            jerk_fd_10khz_ratio=axis_triple(fd[1]),
+            jerk_tolerance=jerk_tolerance,
+            jerk_checked=jerk,
         )
-
-    def _fd_jerk(self, dt: float) -> np.ndarray:
-        if self.duration <= dt:
-            return np.zeros(3)
-        smp = self.sample(dt)
-        return (np.abs(np.diff(smp.a, axis=0)) / np.diff(smp.t)[:, None]).max(axis=0)
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The ``timing`` object of the plan JSON with ``jerk_limited: true``."""
@@ -352,54 +257,6 @@ class JerkTrajectory:
             "jerk_report": rep.to_json(),
             "jerk_note": JERK_MEASURE,
         }
-
-    def write_csv(self, path: str | Path, dt: float = 1e-3) -> Path:
-        """Feed profile as CSV (t, s, x, y, z, speed, v, a and jerk per axis, segment, block)."""
-        path = Path(path)
-        smp = self.sample(dt)
-        cols = (
-            "t_s",
-            "s_mm",
-            "x_mm",
-            "y_mm",
-            "z_mm",
-            "path_speed_mm_s",
-            "vx_mm_s",
-            "vy_mm_s",
-            "vz_mm_s",
-            "ax_mm_s2",
-            "ay_mm_s2",
-            "az_mm_s2",
-            "jx_mm_s3",
-            "jy_mm_s3",
-            "jz_mm_s3",
-            "segment",
-            "block",
-        )
-        with path.open("w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(cols)
-            for i in range(smp.t.shape[0]):
-                w.writerow(
-                    [
-                        f"{smp.t[i]:.6f}",
-                        f"{smp.s[i]:.6f}",
-                        *(f"{c:.6f}" for c in smp.xyz[i]),
-                        f"{smp.speed[i]:.6f}",
-                        *(f"{c:.6f}" for c in smp.v[i]),
-                        *(f"{c:.3f}" for c in smp.a[i]),
-                        *(f"{c:.1f}" for c in smp.j[i]),
-                        int(smp.segment[i]),
-                        smp.block[i],
-                    ]
-                )
-        return path
-
-    def plot_speed(self, path: str | Path | None = None, ax: Any = None) -> Any:
-        """Speed over s and over the path (matplotlib, imported lazily)."""
-        from trcopt.timing.report import plot_speed
-
-        return plot_speed(self, path, ax)  # type: ignore[arg-type]
 
     def __repr__(self) -> str:
         return (
@@ -515,4 +372,4 @@ def _solve_section(sec: Section) -> tuple[Solution[SectionProfile], tuple[np.nda
         spent += sol.solve_time_s
         if sol.ok:
             break
-    return replace(sol, solve_time_s=spent), (pb.knot_nodes, pb.knot_dq2)
+    return replace(sol, solve_time_s=spent), (pb.grid.knot_nodes, pb.grid.knot_dq2)

@@ -1,10 +1,9 @@
 """``JerkProblem``: the jerk-limited path-speed profile of one section as a CasADi/IPOPT NLP.
 
-Model (one section = a tangent-continuous run of segments that starts and ends at rest):
+Model (one section = a tangent-continuous run of segments that starts and ends at rest), on the
+nodes of a :class:`~trcopt.timing.jerk_grid.JerkGrid` (fixed in arc length, one segment per
+interval, speed caps from the feed, the axis velocities and the curvature-jump knots):
 
-* nodes ``s_0 < … < s_N`` fixed in arc length (mm); every knot between segments is a node, so an
-  interval lies on one segment and the closed-form path derivatives ``q′, q″, q‴`` (per axis, with
-  respect to arc length) are smooth inside it;
 * per node the path speed ``v_i = ṡ`` (mm/s) and path acceleration ``a_i = s̈`` (mm/s²); per
   interval its duration ``h_i`` (s) and a **constant path jerk** ``j_i = s⃛`` (mm/s³). The interval
   dynamics are integrated exactly (a triple integrator):
@@ -15,24 +14,20 @@ Model (one section = a tangent-continuous run of segments that starts and ends a
 * per axis k, at both ends of every interval (derivatives taken *inside* the interval, so knots
   see the one-sided values): ``|q′_k v| ≤ vmax_k``, ``|q′_k a + q″_k v²| ≤ amax_k`` and
   ``|q‴_k v³ + 3 q″_k v a + q′_k j| ≤ jmax_k``; the programmed feed ``v ≤ F``; on arcs the limits
-  are tightened by ``cos(Δθ/2)`` because the axis projections rotate inside an interval;
+  are tightened by ``cos(Δθ/2)`` because the axis projections rotate inside an interval; extra rows
+  inside arc and Poly intervals;
 * ``v = a = 0`` at both section ends (tangent discontinuities are passed at rest with zero
   acceleration, as in the acceleration-limited stage);
-* **curvature jumps** (line↔arc knots, G450 transition circles, arcs of different radius): the
-  axis acceleration ``q″_k v²`` steps by ``Δq″_k·v²`` at the knot. The knot is passed at the speed at
-  which that step is absorbed in one interpolation cycle ``T_c`` of the controller:
+* **curvature jumps** are passed at the knot speed cap of the grid,
   ``|Δq″_k|·v² ≤ jmax_k·T_c`` for every axis (see :mod:`trcopt.timing.jerk` for the jerk measure);
 * objective: minimise the section time ``Σ h_i``.
 
-The nodes are placed at equal increments of an estimated time (from the acceleration-limited
-profile, capped by the jerk-limited speed from rest ``v = ½J(6d/J)^{2/3}`` near the section ends and
-by the knot speed caps), so intervals are similar in duration; the same estimate warm-starts IPOPT.
-casadi is imported inside :meth:`JerkProblem.build`.
+The grid's speed estimate, scaled by ``init_scale``, warm-starts IPOPT. casadi is imported inside
+:meth:`JerkProblem.build`.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -40,69 +35,15 @@ from typing import Any
 
 import numpy as np
 
-from trcopt.errors import TimingError
-from trcopt.geometry.poly import Poly
 from trcopt.solution import Solution, SolveStatus
+from trcopt.timing.jerk_grid import JerkGrid, build_jerk_grid
 from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section
 
-__all__ = ["JerkProblem", "SectionProfile", "path_derivatives", "DTHETA_JERK"]
+__all__ = ["JerkProblem", "SectionProfile", "section_label"]
 
-DTHETA_JERK = 0.05  # rad, largest arc angle per interval
 ACC_MARGIN = 0.999  # node constraints on a and j, leaving room for the variation inside an interval
 POLY_ROW_FRACTIONS = (0.25, 0.5, 0.75)  # interior rows of a Poly interval, fractions of its duration
-CURVATURE_JUMP_TOL = 1e-6  # 1/mm: smaller q″ differences at a node are interpolation noise (G2 Poly pieces)
-RAMP_SHARE = 0.5  # 1/mm, smaller jumps of q″ at a knot are not curvature jumps
-
-
-def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:
-    """q′, q″, q‴ (xyz, per mm, mm⁻¹, mm⁻²) of segments ``iseg`` at local arc lengths ``s_local``.
-
-    Lines and arcs/helices in closed form; Poly curves from their Hermite pieces (``q‴`` is
-    constant on a cubic piece, quadratic in s on a quintic one).
-    """
-    iseg = np.asarray(iseg, dtype=np.int64)
-    s_local = np.asarray(s_local, dtype=float)
-    d1 = arrays.eval(iseg, s_local, 1)
-    d2 = arrays.eval(iseg, s_local, 2)
-    n = s_local.shape[0]
-    uvw = np.zeros((n, 3))
-    m = arrays.kind[iseg] == 1
-    if np.any(m):
-        ii = iseg[m]
-        _, _, r, a0, da, _, _ = arrays.arc[ii].T
-        ang = a0 + s_local[m] * da
-        k = r * da * da * da
-        uvw[m] = np.stack((k * np.sin(ang), -k * np.cos(ang), np.zeros_like(k)), axis=1)
-    d3 = np.empty_like(uvw)
-    d3[np.arange(n)[:, None], arrays.perm[iseg]] = uvw
-    for j in np.nonzero(arrays.kind[iseg] == 2)[0]:
-        seg = arrays.evals[int(iseg[j])].segment
-        d3[j] = np.asarray(seg.plane.to_xyz(_poly_third(seg.geometry, float(s_local[j]))))  # type: ignore[arg-type]
-    return d1, d2, d3
-
-
-def _poly_third(g: Poly, s: float) -> tuple[float, float, float]:
-    return g.third(s)
-
-
-def _refine_third(g: Poly, loc: np.ndarray, rel: float = 0.1, rounds: int = 8) -> np.ndarray:
-    """Split the Poly intervals over which q‴ changes by more than ``rel`` of the larger end value
-    (quintic pieces of a sharp transition: q‴ can change tenfold within a few µm), so that the
-    jerk varies little between the rows of an interval (both ends and ¼, ½, ¾ of its time)."""
-    if g.curvatures is None:
-        return loc
-    for _ in range(rounds):
-        third = np.array([g.third(float(x) + (1e-9 if i == 0 else -1e-9)) for i, x in enumerate(loc)])
-        inner = np.array([g.third(float(x) + 1e-9) for x in loc])
-        lo_q, hi_q = inner[:-1], third[1:]
-        change = np.linalg.norm(hi_q - lo_q, axis=1)
-        scale = np.maximum(np.linalg.norm(hi_q, axis=1), np.linalg.norm(lo_q, axis=1))
-        split = np.nonzero((change > rel * scale) & (np.diff(loc) > 2e-7))[0]
-        if split.shape[0] == 0:
-            break
-        loc = np.sort(np.concatenate((loc, 0.5 * (loc[split] + loc[split + 1]))))
-    return loc
 
 
 @dataclass(frozen=True)
@@ -140,9 +81,16 @@ class JerkProblem:
     cycle_s:
         Interpolation cycle T_c (s) in which a curvature-jump acceleration step must be absorbed.
     points:
-        Target number of intervals (before the per-arc minimum of ``|sweep|/DTHETA_JERK``).
+        Target number of intervals (before the per-arc minimum of ``|sweep|/DTHETA_JERK``, see
+        :mod:`trcopt.timing.jerk_grid`).
     init_scale:
         The warm start is this fraction of the estimated speed.
+
+    Attributes
+    ----------
+    grid:
+        The :class:`~trcopt.timing.jerk_grid.JerkGrid` of the section: nodes, path derivatives,
+        speed caps and curvature-jump knots.
     """
 
     #: IPOPT options (silent); override per instance or class to experiment
@@ -182,138 +130,19 @@ class JerkProblem:
         self.points = points if points is not None else min(60 + 30 * nseg, 600)
         self._opti: Any = None
         self._vars: dict[str, Any] = {}
-        self._build_grid(base_s, base_v)
-
-    # -- grid -------------------------------------------------------------------------------------
-    def _build_grid(self, base_s: np.ndarray, base_v: np.ndarray) -> None:
-        sec, ar = self.section, self.arrays
-        segs = np.arange(sec.first, sec.last + 1)
-        jmin, amin = float(self.jmax.min()), float(self.amax.min())
-        # curvature jumps at interior knots → speed caps (|Δq″_k| v² ≤ jmax_k T_c)
-        knot_s = ar.start[segs[1:]]
-        self.knot_cap = np.full(segs.shape[0] - 1, np.inf)
-        self.knot_dq2 = np.zeros((segs.shape[0] - 1, 3))
-        if segs.shape[0] > 1:
-            left = path_derivatives(ar, segs[:-1], ar.length[segs[:-1]])[1]
-            right = path_derivatives(ar, segs[1:], np.zeros(segs.shape[0] - 1))[1]
-            dq2 = right - left
-            self.knot_dq2 = dq2
-            with np.errstate(divide="ignore"):
-                cap2 = (
-                    self.jmax[None, :] * self.cycle_s / np.where(np.abs(dq2) > CURVATURE_JUMP_TOL, np.abs(dq2), 0.0)
-                ).min(axis=1)
-            self.knot_cap = np.sqrt(cap2)
-        # estimated speed on a fine sampling of every segment
-        fine_n = 200
-        parts: list[tuple[np.ndarray, np.ndarray]] = []
-        fines, vcaps = [], []
-        for k in segs:
-            loc = (np.arange(fine_n) + 0.5) / fine_n * ar.length[k]
-            sg = ar.start[k] + loc
-            d1 = ar.eval(np.full(fine_n, k), loc, 1)
-            with np.errstate(divide="ignore"):
-                vel = (self.vmax[None, :] / np.abs(d1)).min(axis=1)
-            v = np.minimum(np.minimum(vel, self.feeds[k]), np.interp(sg, base_s, base_v))
-            d = np.minimum(sg - sec.s_start, sec.s_start + sec.length - sg)
-            v = np.minimum(v, 0.5 * jmin * (6.0 * d / jmin) ** (2.0 / 3.0))
-            for ks, cap in zip(knot_s, self.knot_cap, strict=True):
-                if np.isfinite(cap):
-                    v = np.minimum(v, np.sqrt(cap * cap + 0.5 * amin * np.abs(sg - ks)))
-            v = np.maximum(v, 1e-6 * max(float(self.feeds[k]), 1.0))
-            fines.append(loc)
-            vcaps.append(v)
-            dv = np.abs(np.diff(np.concatenate(([v[0]], v))))
-            parts.append((ar.length[k] / fine_n / v, dv))
-        # measure = share of the estimated time + RAMP_SHARE × share of the speed changes: the ramps
-        # (where the jerk switches) get their nodes even on long feed-limited runs
-        t_tot = sum(float(t.sum()) for t, _ in parts)
-        r_tot = sum(float(r.sum()) for _, r in parts)
-        taus = [t / t_tot + (RAMP_SHARE * r / r_tot if r_tot > 0 else 0.0) for t, r in parts]
-        tau_seg = np.array([t.sum() for t in taus])
-        total = float(tau_seg.sum())
-        s_nodes, iseg = [np.array([sec.s_start])], []
-        for q, k in enumerate(segs):
-            n_min = 2
-            if ar.kind[k] == 1:
-                sweep = abs(ar.arc[k, 4]) * ar.length[k]
-                n_min = max(n_min, math.ceil(sweep / DTHETA_JERK))
-            elif ar.kind[k] == 2:
-                n_min = max(n_min, math.ceil(ar.length[k] / 0.2))
-            n = max(n_min, round(self.points * tau_seg[q] / total))
-            cum = np.concatenate(([0.0], np.cumsum(taus[q])))
-            sfine = np.concatenate(([0.0], fines[q] + 0.5 * ar.length[k] / fine_n))
-            sfine[-1] = ar.length[k]
-            loc = np.interp(np.linspace(0.0, cum[-1], n + 1), cum, sfine)
-            loc[0], loc[-1] = 0.0, ar.length[k]
-            if ar.kind[k] == 2:
-                # a Poly is a chain of cubic Hermite pieces (q″ jumps, q‴ constant per piece): every
-                # sample joint is a node so that each interval lies on one piece
-                joints = np.asarray(ar.evals[k].segment.geometry.cum, dtype=float)  # type: ignore[union-attr]
-                loc = np.unique(np.concatenate((loc, joints[(joints > 0) & (joints < ar.length[k])])))
-                loc = loc[np.concatenate(([True], np.diff(loc) > 1e-9))]
-                loc[-1] = ar.length[k]
-                loc = _refine_third(ar.evals[k].segment.geometry, loc)  # type: ignore[arg-type]
-                n = loc.shape[0] - 1
-            s_nodes.append(ar.start[k] + loc[1:])
-            iseg.append(np.full(n, k))
-        self.s = np.concatenate(s_nodes)
-        self.iseg = np.concatenate(iseg)
-        self.s[-1] = sec.s_start + sec.length
-        n_int = self.iseg.shape[0]
-        lo = self.s[:-1] - ar.start[self.iseg]
-        hi = self.s[1:] - ar.start[self.iseg]
-        hi = np.minimum(hi, ar.length[self.iseg])
-        self.delta = np.diff(self.s)
-        if np.any(self.delta <= 0):
-            raise TimingError(f"section {sec.index}{self.label}: degenerate jerk grid", code="TIMING-JERK-GRID")
-        # derivatives inside the interval (Poly pieces are located by bisection, so nudge inwards)
-        nudge = np.where(ar.kind[self.iseg] == 2, 1e-6 * self.delta, 0.0)
-        self.dl = path_derivatives(ar, self.iseg, lo + nudge)
-        self.dr = path_derivatives(ar, self.iseg, hi - nudge)
-        rate = np.where(ar.kind[self.iseg] == 1, np.abs(ar.arc[self.iseg, 4]), 0.0)
-        self.tighten = np.cos(0.5 * rate * self.delta)
-        # node speed caps: feed and per-axis velocity on both adjacent intervals, knot caps
-        with np.errstate(divide="ignore"):
-            vl = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dl[0])).min(axis=1)
-            vr = (self.vmax[None, :] * self.tighten[:, None] / np.abs(self.dr[0])).min(axis=1)
-        f = self.feeds[self.iseg]
-        self.icap = np.minimum(np.minimum(vl, vr), f)  # per interval (feed and axis velocity)
-        cap = np.full(n_int + 1, np.inf)
-        cap[:-1] = np.minimum(cap[:-1], np.minimum(vl, f))
-        cap[1:] = np.minimum(cap[1:], np.minimum(vr, f))
-        # curvature jumps at interior nodes (segment joints, Poly piece joints): |Δq″_k| v² ≤ jmax_k T_c
-        dq2 = self.dl[1][1:] - self.dr[1][:-1]
-        jump = (np.abs(dq2) > CURVATURE_JUMP_TOL).any(axis=1)
-        self.knot_nodes = np.nonzero(jump)[0] + 1
-        self.knot_dq2 = dq2[jump]
-        with np.errstate(divide="ignore"):
-            kc2 = (self.jmax[None, :] * self.cycle_s / np.abs(self.knot_dq2)).min(axis=1)
-        cap[self.knot_nodes] = np.minimum(cap[self.knot_nodes], np.sqrt(kc2))
-        cap[0] = cap[-1] = 0.0
-        self.vcap = cap
-        # warm start: estimated speed at the nodes
-        v0 = np.minimum(
-            np.interp(
-                self.s,
-                np.concatenate([sec_f + ar.start[k] for sec_f, k in zip(fines, segs, strict=True)]),
-                np.concatenate(vcaps),
-            ),
-            cap,
+        self.grid: JerkGrid = build_jerk_grid(
+            section, arrays, feeds, vmax, amax, jmax, base_s, base_v, cycle_s=cycle_s, points=self.points, label=label
         )
-        v0[0] = v0[-1] = 0.0
-        self.v_init = self.init_scale * v0
-        self.axes_used = np.nonzero(
-            (np.abs(self.dl[0]) + np.abs(self.dr[0]) + np.abs(self.dl[1]) + np.abs(self.dr[1])).max(axis=0) > 1e-12
-        )[0]
+        self.v_init = init_scale * self.grid.v_estimate
 
     @property
     def intervals(self) -> int:
-        return int(self.iseg.shape[0])
+        return self.grid.intervals
 
     # -- NLP ------------------------------------------------------------------------------------------
     def _initial_guess(self) -> dict[str, np.ndarray]:
         v = self.v_init
-        d = self.delta
+        d = self.grid.delta
         h = 2.0 * d / np.maximum(v[:-1] + v[1:], 1e-9)
         t = np.concatenate(([0.0], np.cumsum(h)))
         a = np.gradient(v, t) if v.shape[0] > 2 else np.zeros_like(v)
@@ -330,7 +159,7 @@ class JerkProblem:
         n = self.intervals
         opti = ca.Opti()
         guess = self._initial_guess()
-        self.vref = max(float(np.max(self.vcap[np.isfinite(self.vcap)])), 1.0)
+        self.vref = max(float(np.max(self.grid.vcap[np.isfinite(self.grid.vcap)])), 1.0)
         self.aref = float(self.amax.min())
         self.jref = float(self.jmax.min())
         self.href = max(float(guess["h"].sum()) / n, 1e-6)
@@ -344,19 +173,19 @@ class JerkProblem:
         jj = self.jref * Jp
         v0, v1 = v[:-1], v[1:]
         a0, a1 = a_all[:-1], a_all[1:]
-        dm = ca.DM(self.delta)
+        dm = ca.DM(self.grid.delta)
         opti.subject_to((v0 * h + a0 * h**2 / 2 + jj * h**3 / 6) / dm == 1)
         opti.subject_to((v0 + a0 * h + jj * h**2 / 2 - v1) / self.vref == 0)
         opti.subject_to((a0 + jj * h - a1) / self.aref == 0)
-        cap = np.where(np.isfinite(self.vcap), self.vcap, 1e6) / self.vref
+        cap = np.where(np.isfinite(self.grid.vcap), self.grid.vcap, 1e6) / self.vref
         opti.subject_to(opti.bounded(0, Vi, ca.DM(cap[1:-1])))
         # ṡ is quadratic in t on an interval; its middle Bernstein coefficient v_i + a_i h/2 bounds it
         # from above (convex hull), so the speed caps hold inside the interval as well
-        opti.subject_to((v0 + a0 * h / 2) / self.vref <= ca.DM(self.icap / self.vref))
+        opti.subject_to((v0 + a0 * h / 2) / self.vref <= ca.DM(self.grid.icap / self.vref))
         opti.subject_to(H >= 1e-9)
-        for k in self.axes_used:
-            lim_a = ca.DM(self.tighten * ACC_MARGIN)
-            for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
+        for k in self.grid.axes_used:
+            lim_a = ca.DM(self.grid.tighten * ACC_MARGIN)
+            for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
                 acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
                 jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
                 opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
@@ -385,12 +214,12 @@ class JerkProblem:
         enters the closed-form q′, q″, q‴ symbolically.
         """
         ar = self.arrays
-        idx = np.nonzero(ar.kind[self.iseg] == 1)[0]
+        idx = np.nonzero(ar.kind[self.grid.iseg] == 1)[0]
         if idx.shape[0] == 0:
             return
-        seg = self.iseg[idx]
+        seg = self.grid.iseg[idx]
         r, a0c, da, dw = ar.arc[seg, 2], ar.arc[seg, 3], ar.arc[seg, 4], ar.arc[seg, 6]
-        lo = self.s[idx] - ar.start[seg]
+        lo = self.grid.s[idx] - ar.start[seg]
         rows = [int(i) for i in idx]
         v, a, hh, j = v0[rows], a0[rows], h[rows], jj[rows]
         sdd = a + j * hh / 2
@@ -403,7 +232,7 @@ class JerkProblem:
         uvw2 = (-R * D**2 * c, -R * D**2 * sn, ca.DM.zeros(idx.shape[0]))
         uvw3 = (R * D**3 * sn, -R * D**3 * c, ca.DM.zeros(idx.shape[0]))
         perm = ar.perm[seg]
-        for k in self.axes_used:
+        for k in self.grid.axes_used:
             for comp in range(3):
                 m = perm[:, comp] == k
                 if not np.any(m):
@@ -425,16 +254,16 @@ class JerkProblem:
         a run spline). Poly transitions are sharp (curvature up to 1/ε), so the direction turns
         noticeably within one interval and the bilinear term 3q″·ṡ·s̈ can peak between the nodes."""
         ar = self.arrays
-        idx = np.nonzero(ar.kind[self.iseg] == 2)[0]
+        idx = np.nonzero(ar.kind[self.grid.iseg] == 2)[0]
         if idx.shape[0] == 0:
             return
         rows = [int(i) for i in idx]
         v, a, hh, j = v0[rows], a0[rows], h[rows], jj[rows]
-        d1, d2, d3 = (x[idx] for x in self.dl)
+        d1, d2, d3 = (x[idx] for x in self.grid.dl)
         d4, d5 = np.zeros((idx.shape[0], 3)), np.zeros((idx.shape[0], 3))
-        lo = self.s[idx] - ar.start[self.iseg[idx]] + 1e-6 * self.delta[idx]
+        lo = self.grid.s[idx] - ar.start[self.grid.iseg[idx]] + 1e-6 * self.grid.delta[idx]
         for r, (i, x) in enumerate(zip(idx, lo, strict=True)):
-            seg = ar.evals[int(self.iseg[i])].segment
+            seg = ar.evals[int(self.grid.iseg[i])].segment
             q4, q5 = seg.geometry.higher(float(x))  # type: ignore[union-attr]
             d4[r], d5[r] = seg.plane.to_xyz(q4), seg.plane.to_xyz(q5)
         for frac in POLY_ROW_FRACTIONS:
@@ -442,7 +271,7 @@ class JerkProblem:
             sdd = a + j * tau
             sd = v + a * tau + j * tau**2 / 2
             sig = v * tau + a * tau**2 / 2 + j * tau**3 / 6
-            for k in self.axes_used:
+            for k in self.grid.axes_used:
                 q4, q5 = ca.DM(d4[:, k]), ca.DM(d5[:, k])
                 q3 = ca.DM(d3[:, k]) + q4 * sig + q5 * sig**2 / 2
                 q2 = ca.DM(d2[:, k]) + ca.DM(d3[:, k]) * sig + q4 * sig**2 / 2 + q5 * sig**3 / 6
@@ -485,12 +314,12 @@ class JerkProblem:
         wall = time.perf_counter() - t0
         V, A, H, Jp = (np.atleast_1d(np.asarray(val(self._vars[k]), dtype=float)).ravel() for k in ("V", "A", "H", "J"))
         prof = SectionProfile(
-            self.s.copy(),
+            self.grid.s.copy(),
             np.concatenate(([0.0], np.maximum(V * self.vref, 0.0), [0.0])),
             np.concatenate(([0.0], A * self.aref, [0.0])),
             H * self.href,
             Jp * self.jref,
-            self.iseg.copy(),
+            self.grid.iseg.copy(),
         )
         viol = self.violations(prof)
         status_text = str(stats.get("return_status", ""))
@@ -510,18 +339,18 @@ class JerkProblem:
     def violations(self, p: SectionProfile) -> dict[str, float]:
         """Largest violation per constraint group (relative to the limit; dynamics in mm)."""
         v0, v1, a0, a1, h, j = p.v[:-1], p.v[1:], p.a[:-1], p.a[1:], p.h, p.j
-        ds = v0 * h + a0 * h**2 / 2 + j * h**3 / 6 - self.delta
+        ds = v0 * h + a0 * h**2 / 2 + j * h**3 / 6 - self.grid.delta
         dv = v0 + a0 * h + j * h**2 / 2 - v1
         dyn = max(float(np.abs(ds).max()), float(np.abs(dv).max()) * float(h.max()))
-        cap = np.where(np.isfinite(self.vcap), self.vcap, np.inf)
+        cap = np.where(np.isfinite(self.grid.vcap), self.grid.vcap, np.inf)
         vel = float(np.max(np.maximum(p.v - cap, 0.0) / np.maximum(cap, 1.0)))
         acc = jer = 0.0
-        for (d1, d2, d3), vv, aa in ((self.dl, v0, a0), (self.dr, v1, a1)):
+        for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
             A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (
-                self.amax[None, :] * self.tighten[:, None] * ACC_MARGIN
+                self.amax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN
             )
             Jx = np.abs(d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]) / (
-                self.jmax[None, :] * self.tighten[:, None] * ACC_MARGIN
+                self.jmax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN
             )
             acc = max(acc, float(A.max()) - 1.0)
             jer = max(jer, float(Jx.max()) - 1.0)

@@ -10,12 +10,16 @@ toppra's algorithms call (``__call__(s, order)``, ``dof``, ``path_interval``, ``
 without importing toppra. At a knot the path is evaluated right-continuously (the next element),
 like every toppra path; the grid therefore carries a point just before each knot (see
 :mod:`trcopt.timing.grid`).
+
+:class:`PathArrays` holds a whole tool path as flat arrays for evaluating many (segment, s) pairs
+at once; :func:`path_derivatives` adds the third derivative the jerk-limited feed needs.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
 
@@ -23,7 +27,7 @@ from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.path import Segment
 
-__all__ = ["SegmentEval", "SectionPath"]
+__all__ = ["SegmentEval", "SectionPath", "PathArrays", "path_derivatives"]
 
 
 class SegmentEval:
@@ -152,7 +156,7 @@ class SectionPath:
 
     def segment_index(self, s: np.ndarray, left: bool = False) -> np.ndarray:
         """Index of the segment holding each s (right-continuous unless ``left``)."""
-        side = "left" if left else "right"
+        side: Literal["left", "right"] = "left" if left else "right"
         idx = np.searchsorted(self.knots, s, side=side) - 1
         return np.clip(idx, 0, len(self.evals) - 1)
 
@@ -247,3 +251,31 @@ class PathArrays:
             for j in np.nonzero(m)[0]:
                 out[j] = self.evals[iseg[j]].eval(s_local[j], order)[0]
         return out
+
+
+def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:
+    """q′, q″, q‴ (xyz, per mm, mm⁻¹, mm⁻²) of segments ``iseg`` at local arc lengths ``s_local``.
+
+    Lines and arcs/helices in closed form; Poly curves from their Hermite pieces (``q‴`` is
+    constant on a cubic piece, quadratic in s on a quintic one).
+    """
+    iseg = np.asarray(iseg, dtype=np.int64)
+    s_local = np.asarray(s_local, dtype=float)
+    d1 = arrays.eval(iseg, s_local, 1)
+    d2 = arrays.eval(iseg, s_local, 2)
+    n = s_local.shape[0]
+    uvw = np.zeros((n, 3))
+    m = arrays.kind[iseg] == 1
+    if np.any(m):
+        ii = iseg[m]
+        _, _, r, a0, da, _, _ = arrays.arc[ii].T
+        ang = a0 + s_local[m] * da
+        k = r * da * da * da
+        uvw[m] = np.stack((k * np.sin(ang), -k * np.cos(ang), np.zeros_like(k)), axis=1)
+    d3 = np.empty_like(uvw)
+    d3[np.arange(n)[:, None], arrays.perm[iseg]] = uvw
+    for j in np.nonzero(arrays.kind[iseg] == 2)[0]:
+        seg = arrays.evals[int(iseg[j])].segment
+        assert isinstance(seg.geometry, Poly)  # kind 2 is a Poly
+        d3[j] = np.asarray(seg.plane.to_xyz(seg.geometry.third(float(s_local[j]))))
+    return d1, d2, d3

@@ -116,12 +116,12 @@ def _solve_own(
     n_int = np.zeros(len(secs), dtype=np.int64)
     for q, sec in enumerate(secs):
         for k in sec.segment_indices:
-            local, rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, "own")
+            local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, "own")
             m = local.shape[0] - 1
             s_lo.append(local[:-1])
             s_hi.append(local[1:])
             seg_of.append(np.full(m, k))
-            rate_of.append(np.full(m, rate))
+            rate_of.append(np.full(m, turn_rate))
             n_int[q] += m
     lo = np.concatenate(s_lo)
     hi = np.concatenate(s_hi)

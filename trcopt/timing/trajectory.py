@@ -1,16 +1,19 @@
-"""``TimedTrajectory``: the time-parameterised tool-centre path.
+"""``TimedTrajectory``: the acceleration-limited time-parameterised tool-centre path.
 
 The profile is stored as grid points ``s_0 < … < s_M`` (mm) with squared path speeds
 ``x_i = ṡ²`` and the segment of every interval; between two grid points the path acceleration
 ``s̈ = (x_{i+1} − x_i)/(2Δ_i)`` is constant (toppra's ``ParametrizeConstAccel`` model), so the tool
 follows the exact geometry and ``t_{i+1} − t_i = 2Δ_i/(ṡ_i + ṡ_{i+1})``.
+
+Besides the profile and its queries the class holds its limit check (sampled and at every grid
+end) and the plan-JSON ``timing`` object with the binding constraint per section. It satisfies the
+:class:`~trcopt.trajectory.Trajectory` protocol; the CSV feed profile and the speed plot are
+written by :mod:`trcopt.io.feed_csv` and :func:`trcopt.io.plot.plot_speed`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -18,10 +21,17 @@ import numpy as np
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
+from trcopt.timing.checks import axis_triple, max_jerk, path_deviation
 from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section, axis_limits
+from trcopt.trajectory import LimitReport, Samples
 
-__all__ = ["TimedTrajectory", "Samples", "LimitReport", "sample_times"]
+__all__ = ["TimedTrajectory", "sample_times"]
+
+# the constraints binding_constraints() names, in the column order of its table of ratios
+BINDING_NAMES = (
+    "feed", "velocity X", "velocity Y", "velocity Z", "acceleration X", "acceleration Y", "acceleration Z",
+)
 
 
 def sample_times(duration: float, dt: float) -> np.ndarray:
@@ -35,55 +45,10 @@ def sample_times(duration: float, dt: float) -> np.ndarray:
     return ts
 
 
-@dataclass(frozen=True)
-class Samples:
-    """A sampling of the trajectory (arrays of equal length; xyz, v, a have 3 columns X, Y, Z)."""
-
-    t: np.ndarray  # s
-    s: np.ndarray  # mm along the whole path
-    xyz: np.ndarray  # mm
-    speed: np.ndarray  # mm/s
-    v: np.ndarray  # mm/s per axis
-    a: np.ndarray  # mm/s² per axis
-    segment: np.ndarray  # index into the tool path
-    block: np.ndarray  # source block label (str)
-    sdd: np.ndarray  # path acceleration, mm/s²
-
-
-@dataclass(frozen=True)
-class LimitReport:
-    """Result of :meth:`TimedTrajectory.check_limits` (ratios are max over samples and grid ends)."""
-
-    ok: bool
-    v_ratio: tuple[float, float, float]
-    a_ratio: tuple[float, float, float]
-    feed_ratio: float
-    corner_speed_mm_s: float
-    path_deviation_mm: float
-    tolerance: float
-    samples: int
-
-    def __str__(self) -> str:
-        v = ", ".join(f"{r:.4f}" for r in self.v_ratio)
-        a = ", ".join(f"{r:.4f}" for r in self.a_ratio)
-        return (
-            f"{'PASS' if self.ok else 'FAIL'}: v/vmax (X,Y,Z) = {v}; a/amax = {a}; feed {self.feed_ratio:.4f}; "
-            f"corner speed {self.corner_speed_mm_s:.2e} mm/s; deviation {self.path_deviation_mm:.1e} mm"
-        )
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "ok": self.ok,
-            "v_ratio": dict(zip("XYZ", self.v_ratio, strict=True)),
-            "a_ratio": dict(zip("XYZ", self.a_ratio, strict=True)),
-            "feed_ratio": self.feed_ratio,
-            "corner_speed_mm_s": self.corner_speed_mm_s,
-            "path_deviation_mm": self.path_deviation_mm,
-        }
-
-
 class TimedTrajectory:
     """Time-optimal feed along a tool path (build with :func:`trcopt.timing.time_parameterize`)."""
+
+    jerk_limited = False  # the Trajectory protocol's flag: constant s̈ per interval, so the jerk is unbounded
 
     def __init__(
         self,
@@ -144,7 +109,10 @@ class TimedTrajectory:
         engines: Sequence[str],
         results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]],
     ) -> TimedTrajectory:
-        ss, xs, segs, starts = [], [], [], []
+        ss: list[np.ndarray] = []
+        xs: list[np.ndarray] = []
+        segs: list[np.ndarray] = []
+        starts: list[int] = []
         n = 0
         for sec in sections:
             s, x, iseg = results[sec.index]
@@ -244,30 +212,103 @@ class TimedTrajectory:
         ts = np.where(end, self.t[i + 1], self.t[i])
         return self._samples_at(ts, i, s, sd, self.u[i])
 
-    # -- reports (see report.py) ----------------------------------------------------------------
-    def check_limits(self, dt: float = 1e-4, tolerance: float = 1.001) -> LimitReport:
-        """Per-axis v and a, feed and corner speeds at ``dt`` sampling and at every grid end."""
-        from trcopt.timing.report import check_limits
+    # -- checks and the plan JSON ---------------------------------------------------------------
+    def _ratios(self, smp: Samples) -> tuple[np.ndarray, np.ndarray, float]:
+        vmax, amax = axis_limits(self.machine)
+        if smp.t.shape[0] == 0:
+            return np.zeros(3), np.zeros(3), 0.0
+        vr = (np.abs(smp.v) / vmax).max(axis=0)
+        ar = (np.abs(smp.a) / amax).max(axis=0)
+        fr = float((smp.speed / self.feeds[smp.segment]).max()) if self.feeds.size else 0.0
+        return vr, ar, fr
 
-        return check_limits(self, dt, tolerance)
+    def check_limits(self, dt: float = 1e-4, tolerance: float = 1.001) -> LimitReport:
+        """Per-axis v and a, feed and corner speeds at ``dt`` sampling (s) and at every grid end.
+
+        ``tolerance`` is the largest ratio to a limit that passes; the sampled positions must
+        also lie on the exact geometry (≤ 1e-6 mm) and the corner speeds be ≤ 1e-6 mm/s.
+        """
+        if not self.segments:
+            return LimitReport(True, (0.0,) * 3, (0.0,) * 3, 0.0, 0.0, 0.0, tolerance, 0)
+        vr1, ar1, fr1 = self._ratios(self.sample(dt))
+        grid = self.grid_states()
+        vr2, ar2, fr2 = self._ratios(grid)
+        vr, ar = np.maximum(vr1, vr2), np.maximum(ar1, ar2)
+        fr = max(fr1, fr2)
+        corner = float(self.sd[self.section_points].max())
+        assert self.arrays is not None
+        dev = path_deviation(self.segments, self.arrays.start, grid)
+        ok = bool(
+            vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
+        )
+        return LimitReport(ok, axis_triple(vr), axis_triple(ar), fr, corner, dev, tolerance, int(grid.t.shape[0]))
+
+    def binding_constraints(self) -> list[str]:
+        """Per section, the constraint active for the largest share of time.
+
+        At the time midpoint of every grid interval the constraint with the largest ratio to its
+        limit (``feed``, ``velocity X``, ``acceleration Y``, …) is active; shares are weighted by
+        duration.
+        """
+        if not self.segments:
+            return []
+        vmax, amax = axis_limits(self.machine)
+        tm = 0.5 * (self.t[:-1] + self.t[1:])
+        smp = self.evaluate(tm)
+        ratios = np.column_stack((smp.speed / self.feeds[smp.segment], np.abs(smp.v) / vmax, np.abs(smp.a) / amax))
+        which = ratios.argmax(axis=1)
+        w = np.diff(self.t)
+        out = []
+        for k in range(len(self.sections)):
+            a, b = self.section_points[k], self.section_points[k + 1]
+            share = np.bincount(which[a:b], weights=w[a:b], minlength=len(BINDING_NAMES))
+            out.append(BINDING_NAMES[int(share.argmax())])
+        return out
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
-        """The ``timing`` object of the plan JSON (design.md §3.1)."""
-        from trcopt.timing.report import timing_json
-
-        return timing_json(self, samples)
-
-    def write_csv(self, path: str | Path, dt: float = 1e-3) -> Path:
-        """Write the feed profile (t, s, x, y, z, speed, v and a per axis, block) as CSV."""
-        from trcopt.timing.report import write_csv
-
-        return write_csv(self, Path(path), dt)
-
-    def plot_speed(self, path: str | Path | None = None, ax: Any = None) -> Any:
-        """Speed over s and over the path (matplotlib, imported here); saves to ``path`` if given."""
-        from trcopt.timing.report import plot_speed
-
-        return plot_speed(self, path, ax)
+        """The ``timing`` object of the plan JSON (design.md §3.1); ``samples`` names the CSV."""
+        rep = self.check_limits(1e-3, 1.001) if self.segments else None
+        jerk = max_jerk(self)
+        binding = self.binding_constraints()
+        sections = []
+        for k, sec in enumerate(self.sections):
+            a, b = self.section_points[k], self.section_points[k + 1]
+            sections.append({
+                "index": sec.index,
+                "first_segment": sec.first,
+                "last_segment": sec.last,
+                "first_block": self.segments[sec.first].span.block,
+                "last_block": self.segments[sec.last].span.block,
+                "s_start_mm": round(sec.s_start, 9),
+                "length_mm": round(sec.length, 9),
+                "t_start_s": float(self.t[a]),
+                "t_end_s": float(self.t[b]),
+                "engine": self.engines[k],
+                "binding": binding[k],
+            })
+        jmax = [self.machine.axis(n).jmax_mm_s3 for n in "XYZ"]
+        return {
+            "duration_s": self.duration,
+            "machine": self.machine.to_json(),
+            "samples": samples,
+            "length_mm": self.length,
+            "method": (
+                "TOPP-RA interpolation scheme on the exact path; const-acceleration output; "
+                "speed 0 at tangent discontinuities"
+            ),
+            "sections": sections,
+            "max_ratios": None if rep is None else {
+                "v": dict(zip("XYZ", rep.v_ratio, strict=True)),
+                "a": dict(zip("XYZ", rep.a_ratio, strict=True)),
+                "feed": rep.feed_ratio,
+            },
+            "limits_ok": None if rep is None else rep.ok,
+            "max_jerk_mm_s3": dict(zip("XYZ", (float(j) for j in jerk), strict=True)),
+            "max_jerk_ratio": {
+                n: (None if jm is None else float(j) / jm) for n, j, jm in zip("XYZ", jerk, jmax, strict=True)
+            },
+            "jerk_note": "finite difference at 1 kHz; acceleration-limited profiles have unbounded jerk",
+        }
 
     def __repr__(self) -> str:
         return (

@@ -1,26 +1,72 @@
 """Feed-optimised corner transitions within a contour tolerance.
 
-* :mod:`.blend` — finds the tangent discontinuities of a tool path and replaces them
-  (:func:`blend_corners`), measures the material left (:func:`cut_deviation`);
+* :mod:`.strategies` — the registry of corner strategies (``exact``, ``arc``, ``optimal``), each a
+  module of its own (:mod:`.exact`, :mod:`.arc`, :mod:`.optimal`);
+* :mod:`.blend` — :func:`blend_corners`, the entry point: runs a strategy by name;
+* :mod:`.records` — what a strategy returns (:class:`CornerResult`, :class:`CornerRecord`);
+* :mod:`.sites` — the corners of a tool path and what constrains them (:func:`find_corner_sites`);
+* :mod:`.boundary` — the exact cut boundary and the material a path leaves (:func:`cut_deviation`);
 * :mod:`.qp` — one corner as a G2 quintic problem (SQP of OSQP QPs);
 * :mod:`.chain` — one G2 cubic spline across a run of small CAM corners or a curvature jump;
-* :mod:`.strategies` — the registry of transition strategies (``exact``, ``arc``, ``optimal``).
+* :mod:`.circular` — the largest same-ε circular blend at one corner;
+* :mod:`.assemble` — the new path from the transitions, fitted to the tolerance;
+* :mod:`.selection` — the fastest of G2, circular and a per-corner mix;
+* :mod:`.curves` — curvature, turning angle and the quintic basis shared by the above.
+
+The names below load on first use (PEP 562), so the registry — and with it ``trcopt plan``'s
+argument parser — imports no numerical library.
 """
 
 from __future__ import annotations
 
-from trcopt.optimize.corners.blend import (
-    CornerRecord,
-    CornerResult,
-    blend_corners,
-    cut_deviation,
-    find_corner_sites,
-    optimize_corners,
-)
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from trcopt.optimize.corners.blend import blend_corners, optimize_corners
+    from trcopt.optimize.corners.boundary import cut_deviation
+    from trcopt.optimize.corners.qp import CornerBlendProblem
+    from trcopt.optimize.corners.records import JUMP_SMOOTHED, CornerRecord, CornerResult
+    from trcopt.optimize.corners.sites import CornerSite, find_corner_sites
+    from trcopt.optimize.corners.strategies import CornerJob, CornerStrategy
+
+_LAZY = {
+    "blend_corners": "trcopt.optimize.corners.blend",
+    "optimize_corners": "trcopt.optimize.corners.blend",
+    "cut_deviation": "trcopt.optimize.corners.boundary",
+    "CornerBlendProblem": "trcopt.optimize.corners.qp",
+    "JUMP_SMOOTHED": "trcopt.optimize.corners.records",
+    "CornerRecord": "trcopt.optimize.corners.records",
+    "CornerResult": "trcopt.optimize.corners.records",
+    "CornerSite": "trcopt.optimize.corners.sites",
+    "find_corner_sites": "trcopt.optimize.corners.sites",
+    "CornerJob": "trcopt.optimize.corners.strategies",
+    "CornerStrategy": "trcopt.optimize.corners.strategies",
+}
+
+
+def __getattr__(name: str) -> object:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 __all__ = [
+    "JUMP_SMOOTHED",
+    "CornerBlendProblem",
+    "CornerJob",
     "CornerRecord",
     "CornerResult",
+    "CornerSite",
+    "CornerStrategy",
     "blend_corners",
     "cut_deviation",
     "find_corner_sites",

@@ -23,7 +23,7 @@ The spline is found by sequential convex programming, one OSQP QP per step:
 
 Steps (each with a small proximal term) repeat until the spline moves < 1 µm across itself (at most
 MAX_STEPS); the result is accepted only if the dense-sampled clearance ≥ R and offset ≤ ε hold; the
-caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.blend.cut_deviation`)
+caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.boundary.cut_deviation`)
 and tightens ε′ if it exceeds ε.
 
 The same spline smooths a **curvature jump** (:func:`knot_site`): at a tangent-continuous joint
@@ -41,13 +41,17 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import parametric_curve
-from trcopt.optimize.corners.qp import joint_turn, signed_curvature
+from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.verify.model import points_distance, points_foot
+
+if TYPE_CHECKING:
+    from scipy.interpolate import BSpline
 
 __all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "solve_chain"]
 
@@ -261,7 +265,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     # proximal term on the step (vanishes at the fixed point): conditions the ADMM iterations
     Pprox = (Pm + PROX * float(np.mean(np.diag(H))) * sparse.eye(2 * n)).tocsc()
 
-    def xy_rows(Bm, vecs: np.ndarray):  # type: ignore[no-untyped-def]
+    def xy_rows(Bm: Any, vecs: np.ndarray) -> Any:
         """Rows of v·C(s) for rows of the basis ``Bm`` and directions ``vecs`` (k×2)."""
         if sparse.issparse(Bm):
             return sparse.hstack((sparse.diags(vecs[:, 0]) @ Bm, sparse.diags(vecs[:, 1]) @ Bm))
@@ -427,7 +431,7 @@ def _free_offset(site: ChainSite, P: np.ndarray) -> float:
     return worst
 
 
-def _piece(cx, cy, a: float, b: float, w: float) -> Poly:  # type: ignore[no-untyped-def]
+def _piece(cx: BSpline, cy: BSpline, a: float, b: float, w: float) -> Poly:
     L = b - a
 
     def f(u: float) -> tuple[float, float, float]:

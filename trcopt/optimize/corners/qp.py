@@ -10,8 +10,9 @@ Constraints (all evaluated exactly on samples, linearised by finite differences)
 
 * **no gouge** — distance of every blend sample to every nearby programmed element ≥ R;
 * **cut deviation ≤ ε** — the material left beyond the exact cut boundary, measured along the
-  boundary normals (:func:`material_left`); the sampled value is an upper bound of the true one
-  because the swept region of the sampled centres is a subset of the true swept region;
+  boundary normals (:func:`~trcopt.optimize.corners.boundary.material_left`); the sampled value
+  is an upper bound of the true one because the swept region of the sampled centres is a subset
+  of the true swept region;
 * positive end speeds, available lengths on both neighbours.
 
 Objective: the largest |curvature| (epigraph variable), the time surrogate of a corner (speed
@@ -30,157 +31,15 @@ from typing import Any
 
 import numpy as np
 
-from trcopt.geometry import Arc, Line
-from trcopt.geometry.poly import quintic_hermite_basis, quintic_hermite_third
+from trcopt.optimize.corners.curves import frame_back, frame_forward, quintic_basis, quintic_third_basis, rot90
+from trcopt.optimize.corners.sites import CornerSite
 from trcopt.solution import Solution, SolveStatus
 from trcopt.verify.model import points_distance
 
-__all__ = [
-    "CornerSite",
-    "CornerBlendProblem",
-    "CornerSolution",
-    "CornerGeometry",
-    "material_left",
-    "quintic_basis",
-    "signed_curvature",
-]
+__all__ = ["CornerBlendProblem", "CornerGeometry", "CornerSolution"]
 
-Element = Line | Arc
 CLEAR_TOL_MM = 1e-9
 ELASTIC_WEIGHT = 100.0  # price of the elastic slack (in units of the scaled objective)
-
-
-def quintic_basis(u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Quintic Hermite basis and its first two derivatives at ``u`` (K×6 each), coefficient order
-    (P0, D0, A0, A1, D1, P1) as in :func:`trcopt.geometry.hermite_curve`."""
-    u = np.asarray(u, float)
-    h0, h1, h2 = quintic_hermite_basis(u)
-    return tuple(np.stack(np.broadcast_arrays(*h), axis=1) for h in (h0, h1, h2))  # type: ignore[return-value]
-
-
-def _third_basis(u: np.ndarray) -> np.ndarray:
-    """Third derivatives of the quintic Hermite basis at ``u`` (K×6)."""
-    u = np.asarray(u, float)
-    return np.stack(np.broadcast_arrays(*quintic_hermite_third(u)), axis=1)
-
-
-def _frame_back(el: Element, s_back: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """Point, unit tangent and signed curvature of ``el`` at plane arc length ``s_back`` before its end."""
-    lam = 1.0 - s_back / el.plane_length
-    return _frame(el, lam)
-
-
-def _frame_fwd(el: Element, s_fwd: float) -> tuple[np.ndarray, np.ndarray, float]:
-    return _frame(el, s_fwd / el.plane_length)
-
-
-def _frame(el: Element, lam: float) -> tuple[np.ndarray, np.ndarray, float]:
-    p = np.array(el.point2(lam), float)
-    if isinstance(el, Line):
-        return p, np.array(el.direction2(), float), 0.0
-    return p, np.array(el.tangent2(lam), float), signed_curvature(el)
-
-
-def signed_curvature(el: Element) -> float:
-    """Signed plane curvature of a line (0) or arc (positive = turning left), 1/mm."""
-    return 0.0 if isinstance(el, Line) else el.sense / el.radius
-
-
-def joint_turn(a: Element, b: Element) -> float:
-    """Signed turning angle from the end of ``a`` to the start of ``b``, rad (positive = left)."""
-    ta, tb = a.end_tangent(), b.start_tangent()
-    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
-
-
-def _rot90(v: np.ndarray) -> np.ndarray:
-    return np.stack((-v[..., 1], v[..., 0]), axis=-1)
-
-
-@dataclass(frozen=True)
-class CornerSite:
-    """A tangent discontinuity of the tool-centre path and what constrains its transition.
-
-    Attributes
-    ----------
-    a, b:
-        Incoming and outgoing tool-centre elements (plane coordinates, mm).
-    radius:
-        Tool radius in force, mm.
-    material_sign:
-        +1 when the material (programmed contour) lies left of the tool's travel (G42), −1 when
-        right (G41).
-    avail_a, avail_b:
-        Longest plane arc length the transition may take from ``a`` (before J) and ``b`` (after J), mm.
-    programmed:
-        Programmed contour elements near the corner (no-gouge and deviation reference).
-    probes:
-        Points of the exact cut boundary near the corner (n×2, mm) and unit directions away from
-        the material (n×2): the deviation is the material left along these rays.
-    context:
-        Exact tool-centre elements around the corner that stay in the new path (n_c×… samples
-        used to cover the probes), as sample points (m×2, mm).
-    min_cut:
-        Smallest ``sa`` and ``sb`` (mm). Non-zero when the corner is a transition circle (G450)
-        between two lines: ``a`` and ``b`` are then the lines extended to their intersection, the
-        circle is replaced as a whole, and the transition must start and end on the real lines,
-        at least ``min_cut`` (the circle's tangent length) from the intersection.
-    """
-
-    a: Element
-    b: Element
-    radius: float
-    material_sign: float
-    avail_a: float
-    avail_b: float
-    programmed: tuple[Element, ...]
-    probes: np.ndarray
-    probe_dirs: np.ndarray
-    w: float = 0.0
-    context: tuple[Element, ...] = ()
-    min_cut: float = 0.0
-
-    def material_left(self, curve: np.ndarray, sa: float, sb: float, eps: float) -> np.ndarray:
-        """Material left (mm) at every probe for a transition sampled by ``curve`` (k×2) that
-        replaces ``sa`` mm of ``a`` and ``sb`` mm of ``b``.
-
-        Probes within R of the remaining exact elements are swept (exact distances); the rest
-        are measured against discs around the transition samples and fine samples of the legs
-        near the cut points (spacing ``sqrt(0.08·R·ε)``: the sampled swept region lags the true
-        one by ≤ 1 % of ε).
-        """
-        if not len(self.probes):
-            return np.zeros(1)
-        R = self.radius
-        la, lb = self.a.plane_length, self.b.plane_length
-        rest = [self.a.sub(0.0, 1.0 - sa / la), self.b.sub(sb / lb, 1.0), *self.context]
-        d = np.min([points_distance(e, self.probes) for e in rest], axis=0)
-        out = np.zeros(len(self.probes))
-        open_ = d > R * (1.0 + 1e-12) + 1e-12
-        if not np.any(open_):
-            return out
-        fine = max(math.sqrt(0.08 * R * eps), 1e-5)
-        legs = []
-        for d0, el, back in ((sa, self.a, True), (sb, self.b, False)):
-            stop = min(d0 + 2.0 * R, el.plane_length)
-            for dd in np.append(np.arange(d0, stop, fine), stop):
-                legs.append((_frame_back if back else _frame_fwd)(el, dd)[0])
-        centres = np.vstack((curve, np.array(legs)))
-        out[open_] = material_left(self.probes[open_], self.probe_dirs[open_], centres, R)
-        return out
-
-    @property
-    def joint(self) -> np.ndarray:
-        return np.array(self.a.point2(1.0), float)
-
-    @property
-    def turn(self) -> float:
-        """Signed turning angle at J, rad (positive = left)."""
-        return joint_turn(self.a, self.b)
-
-    @property
-    def inside(self) -> bool:
-        """True when the material lies on the outer side of the turn (pocket-like corner)."""
-        return self.turn * self.material_sign < 0
 
 
 @dataclass(frozen=True)
@@ -203,29 +62,6 @@ class CornerGeometry:
 CornerSolution = Solution[CornerGeometry]
 
 
-def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, radius: float) -> np.ndarray:
-    """Thickness of material left along each probe ray (mm, ≥ 0).
-
-    A probe is a point of the exact cut boundary with the unit direction pointing away from the
-    material; the new tool sweeps discs of ``radius`` around ``centres``. The result is the
-    distance along the ray to the first disc (0 when the probe itself is swept). Sampled centres
-    sweep a subset of the true region, so the value is an upper bound. ``centres`` is m×2 (the
-    same for every probe) or n×m×2 (its own centres per probe).
-    """
-    rel = (centres if centres.ndim == 3 else centres[None, :, :]) - probes[:, None, :]  # n×m×2
-    along = np.einsum("nmk,nk->nm", rel, dirs)
-    perp2 = np.einsum("nmk,nmk->nm", rel, rel) - along * along
-    inside = perp2 <= radius * radius
-    root = np.sqrt(np.maximum(radius * radius - perp2, 0.0))
-    entry = np.where(inside, along - root, np.inf)
-    exit_ = np.where(inside, along + root, -np.inf)
-    # a disc that contains the probe (entry ≤ 0 ≤ exit) sweeps it: thickness 0
-    covered = np.any((entry <= 0.0) & (exit_ >= 0.0), axis=1)
-    ahead = np.where(entry > 0.0, entry, np.inf).min(axis=1)
-    out = np.where(covered, 0.0, ahead)
-    return np.minimum(out, 10.0 * radius + 1.0)
-
-
 class CornerBlendProblem:
     """The transition at one corner as an inspectable SQP; each step is an OSQP QP.
 
@@ -240,6 +76,9 @@ class CornerBlendProblem:
         Contour tolerance ε (material left ≤ ε), mm.
     samples:
         Blend samples for the constraints.
+    limits:
+        ``(amax mm/s², jmax mm/s³)``: minimise the jerk objective of :meth:`objective_samples`
+        instead of the peak curvature.
     """
 
     N_VAR = 6
@@ -256,7 +95,7 @@ class CornerBlendProblem:
         self.limits = limits
         self.u = np.linspace(0.0, 1.0, samples)
         self.H0, self.H1, self.H2 = quintic_basis(self.u)
-        self.H3 = _third_basis(self.u)
+        self.H3 = quintic_third_basis(self.u)
         self.iterations = 0
         self.x0 = self._initial_guess()
 
@@ -283,9 +122,9 @@ class CornerBlendProblem:
         """(6×2) quintic Hermite coefficients P0, D0, A0, A1, D1, P1 for ``x``."""
         s = self.site
         sa, al, be, sb, ga, de = x
-        pa, ta, ka = _frame_back(s.a, sa)
-        pb, tb, kb = _frame_fwd(s.b, sb)
-        na, nb = _rot90(ta), _rot90(tb)
+        pa, ta, ka = frame_back(s.a, sa)
+        pb, tb, kb = frame_forward(s.b, sb)
+        na, nb = rot90(ta), rot90(tb)
         return np.stack((pa, al * ta, al * al * ka * na + be * ta, ga * ga * kb * nb + de * tb, ga * tb, pb))
 
     def evaluate(self, x: np.ndarray, dense: bool = False) -> dict[str, np.ndarray]:
@@ -307,7 +146,7 @@ class CornerBlendProblem:
             clear = np.full(len(p), np.inf)
         out = {"kappa": kappa, "speed": sp, "dev": dev, "clear": clear, "points": p}
         if self.limits is not None:
-            d3 = (_third_basis(np.linspace(0.0, 1.0, 400)) if dense else self.H3) @ C
+            d3 = (quintic_third_basis(np.linspace(0.0, 1.0, 400)) if dense else self.H3) @ C
             spm = np.maximum(sp, 1e-300)
             # dκ/ds = (x′y‴ − y′x‴)/|P′|⁴ − 3 (x′y″ − y′x″)(P′·P″)/|P′|⁶
             dk = (d1[:, 0] * d3[:, 1] - d1[:, 1] * d3[:, 0]) / spm**4 - 3.0 * cross * np.einsum(
@@ -482,11 +321,16 @@ class CornerBlendProblem:
         self.iterations = done
         ev = self.evaluate(x, dense=True)
         ok = float(ev["dev"].max()) <= self.eps and float(ev["clear"].min()) >= self.site.radius - 2 * CLEAR_TOL_MM
-        C = self.coefficients(x)
+        p0, d0, a0, a1, d1, p1 = ((float(row[0]), float(row[1])) for row in self.coefficients(x))
         geom = CornerGeometry(
             float(x[0]),
             float(x[3]),
-            *(tuple(float(c) for c in row) for row in C),  # type: ignore[arg-type]
+            p0,
+            d0,
+            a0,
+            a1,
+            d1,
+            p1,
             max_curvature=float(np.abs(ev["kappa"]).max()),
             max_deviation=float(ev["dev"].max()),
             min_clearance=float(ev["clear"].min()),

@@ -9,10 +9,12 @@
 
 from __future__ import annotations
 
-from trcopt.optimize.leads.leadin import LeadCandidate, LeadResult, SarShape, optimal_lead
+from trcopt.optimize.leads.leadin import optimal_lead
 from trcopt.optimize.leads.leadout import LeadOutResult, optimal_lead_out
+from trcopt.optimize.leads.records import LeadCandidate, LeadResult, SarShape
 from trcopt.optimize.leads.report import Baseline, compare_with_sar, leadin_gcode, leadin_svg
-from trcopt.optimize.leads.sar_problem import SarGeometry, SarProblem
+from trcopt.optimize.leads.sar_geometry import SarGeometry
+from trcopt.optimize.leads.sar_problem import SarProblem
 
 __all__ = [
     "Baseline",

@@ -18,7 +18,8 @@ from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.geometry import Plane
 from trcopt.geometry.vec import Vec2
 from trcopt.modes import Side, parse_enum
-from trcopt.optimize.leads.leadin import Element, LeadResult, _segments, optimal_lead
+from trcopt.optimize.leads.leadin import optimal_lead
+from trcopt.optimize.leads.records import Element, LeadResult, lead_segments
 from trcopt.path import Role, Segment
 
 __all__ = ["LeadOutResult", "optimal_lead_out"]
@@ -33,7 +34,7 @@ class LeadOutResult:
     @property
     def elements(self) -> tuple[Element, ...]:
         """Tool-centre elements from the contour end (P4c) to the end point."""
-        return tuple(e.reversed() for e in reversed(self.mirrored.elements))  # type: ignore[misc]
+        return tuple(e.reversed() for e in reversed(self.mirrored.elements))
 
     @property
     def kind(self) -> str:
@@ -61,7 +62,7 @@ class LeadOutResult:
         m = self.mirrored
         return [
             replace(s, role=Role.RETRACT)
-            for s in _segments(self.elements, m.plane, m.feed_mm_s, self.side, m.radius)
+            for s in lead_segments(self.elements, m.plane, m.feed_mm_s, self.side, m.radius)
         ]
 
     def to_json(self) -> dict[str, Any]:
@@ -97,7 +98,7 @@ def optimal_lead_out(
     backwards = [(c.geometry if isinstance(c, Segment) else c).reversed() for c in reversed(contour)]
     lead = optimal_lead(
         end,
-        backwards,  # type: ignore[arg-type]
+        backwards,
         radius,
         mirrored_side,
         rho_min=rho_min,

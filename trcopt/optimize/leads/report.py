@@ -17,7 +17,9 @@ from typing import Any
 from trcopt.geometry import Arc, Line, Plane, Poly
 from trcopt.modes import SarContour, SarSegmentation, SarSide
 from trcopt.nc.model import SarSpec
-from trcopt.optimize.leads.leadin import Element, LeadResult, _Context, lead_time
+from trcopt.optimize.leads.context import LeadContext
+from trcopt.optimize.leads.leadin import lead_time
+from trcopt.optimize.leads.records import Element, LeadResult
 
 __all__ = ["Baseline", "sar_baseline", "compare_with_sar", "leadin_gcode", "leadin_svg"]
 
@@ -67,7 +69,7 @@ def compare_with_sar(
 ) -> list[Baseline]:
     """G147/G247/G347 with default parameters, timed and clearance-checked like the optimum."""
     rho_min, safety = result.rho_min, result.safety
-    ctx = _Context(result.p0, list(contour), result.radius, result.side, rho_min, safety, None)
+    ctx = LeadContext(result.p0, list(contour), result.radius, result.side, rho_min, safety, None)
     out = []
     for code in SAR_CODES:
         els = sar_baseline(result, code, disr)

@@ -1,0 +1,60 @@
+"""The feed profile of a :class:`~trcopt.trajectory.Trajectory` as CSV (``trcopt plan --csv``).
+
+One row per sample every ``dt`` seconds: time, arc length, position, path speed, per-axis velocity
+and acceleration, per-axis jerk when the profile bounds it (jerk-limited feed), the segment index
+into the tool path and its source block. Rendered to text first and written atomically.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from io import StringIO
+from pathlib import Path
+
+from trcopt.io.atomic import write_text_atomic
+from trcopt.trajectory import Trajectory
+
+__all__ = ["render_feed_csv", "write_feed_csv", "FEED_CSV_COLUMNS", "JERK_CSV_COLUMNS"]
+
+FEED_CSV_COLUMNS = (
+    "t_s", "s_mm", "x_mm", "y_mm", "z_mm", "path_speed_mm_s",
+    "vx_mm_s", "vy_mm_s", "vz_mm_s", "ax_mm_s2", "ay_mm_s2", "az_mm_s2", "segment", "block",
+)
+JERK_CSV_COLUMNS = ("jx_mm_s3", "jy_mm_s3", "jz_mm_s3")  # before "segment", for a jerk-limited profile
+
+
+def render_feed_csv(trajectory: Trajectory, dt: float = 1e-3) -> str:
+    """The feed profile sampled every ``dt`` seconds as CSV text (``\\r\\n`` line ends).
+
+    Positions, speeds and velocities in mm and mm/s with 6 decimals, accelerations in mm/s² with
+    3, jerks in mm/s³ with 1 (columns ``FEED_CSV_COLUMNS``, with ``JERK_CSV_COLUMNS`` inserted
+    before ``segment`` when the samples carry the jerk).
+    """
+    smp = trajectory.sample(dt)
+    jerk = smp.j
+    head = FEED_CSV_COLUMNS[:-2]
+    columns = (*head, *JERK_CSV_COLUMNS, *FEED_CSV_COLUMNS[-2:]) if jerk is not None else FEED_CSV_COLUMNS
+    out = StringIO()
+    w = csv.writer(out)
+    w.writerow(columns)
+    for i in range(smp.t.shape[0]):
+        w.writerow([
+            f"{smp.t[i]:.6f}", f"{smp.s[i]:.6f}",
+            *(f"{c:.6f}" for c in smp.xyz[i]), f"{smp.speed[i]:.6f}",
+            *(f"{c:.6f}" for c in smp.v[i]), *(f"{c:.3f}" for c in smp.a[i]),
+            *(() if jerk is None else (f"{c:.1f}" for c in jerk[i])),
+            int(smp.segment[i]), smp.block[i],
+        ])
+    return out.getvalue()
+
+
+def write_feed_csv(trajectory: Trajectory, path: str | os.PathLike[str], dt: float = 1e-3) -> Path:
+    """Write :func:`render_feed_csv` of ``trajectory`` (sampled every ``dt`` seconds) to ``path``.
+
+    Raises
+    ------
+    OutputError
+        The file cannot be written; an existing file at ``path`` is left untouched.
+    """
+    return write_text_atomic(path, render_feed_csv(trajectory, dt))

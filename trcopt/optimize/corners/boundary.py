@@ -1,0 +1,227 @@
+"""The cut boundary of the exact tool path and the material a new path leaves beyond it.
+
+The cut-part deviation is measured on the physics, not on the tool-centre path: the exact path's
+cut boundary is probed along its normals (:func:`boundary_probes`) and the new path's swept discs
+must reach every probe (:func:`material_left`); :func:`cut_deviation` is the largest thickness left
+over a whole path.
+
+* :func:`blendable` — a segment whose corners may be replaced (compensated plane feed motion);
+* :func:`material_sign` — on which side of a compensated segment the material lies;
+* :func:`element_samples` — points and tangents of a line or arc.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from trcopt.geometry import Arc, Line
+from trcopt.path import Role, Segment
+from trcopt.verify.model import points_distance
+
+__all__ = [
+    "NEAREST_CENTRES",
+    "blendable",
+    "boundary_probes",
+    "cut_deviation",
+    "element_samples",
+    "material_left",
+    "material_sign",
+]
+
+NEAREST_CENTRES = 128  # centres per probe for the bound of the deviation measurement
+
+
+def blendable(seg: Segment) -> bool:
+    """True for a compensated plane feed line or arc of the contour (or a corner element)."""
+    g = seg.geometry
+    return (
+        not seg.is_rapid
+        and seg.role in (Role.CONTOUR, Role.CORNER)
+        and seg.radius > 0
+        and isinstance(g, Line | Arc)
+        and g.plane_length > 1e-9
+        and abs(g.start[2] - g.end[2]) <= 1e-12
+    )
+
+
+def material_sign(seg: Segment) -> float:
+    """+1 when the material lies left of the tool's travel (G42), −1 when right (G41)."""
+    # G41 (LEFT): tool left of the contour, so the material is right of travel (−1)
+    return -1.0 if seg.side.value == "left" else 1.0
+
+
+def _normal(t: np.ndarray, sign: float) -> np.ndarray:
+    return sign * np.array([-t[..., 1], t[..., 0]]).T if t.ndim > 1 else sign * np.array([-t[1], t[0]])
+
+
+def element_samples(
+    el: Line | Arc, step: float, s0: float = 0.0, s1: float | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points and unit tangents of ``el`` from plane arc length ``s0`` to ``s1`` (default: the
+    end) every ``step`` at most, mm."""
+    L = el.plane_length
+    s1 = L if s1 is None else min(s1, L)
+    n = max(2, int(math.ceil((s1 - s0) / step)) + 1)
+    lam = np.linspace(s0, s1, n) / L
+    if isinstance(el, Line):
+        a, b = np.array(el.start2), np.array(el.end2)
+        pts = a[None, :] + lam[:, None] * (b - a)[None, :]
+        tan = np.repeat(np.array([el.direction2()]), n, axis=0)
+        return pts, tan
+    ang = el.a0 + lam * el.sweep
+    pts = np.stack((el.center[0] + el.radius * np.cos(ang), el.center[1] + el.radius * np.sin(ang)), axis=1)
+    k = 1.0 if el.sweep > 0 else -1.0
+    tan = np.stack((-np.sin(ang) * k, np.cos(ang) * k), axis=1)
+    return pts, tan
+
+
+def _fan(n1: np.ndarray, n2: np.ndarray, count: int) -> np.ndarray:
+    a1, a2 = math.atan2(n1[1], n1[0]), math.atan2(n2[1], n2[0])
+    d = (a2 - a1 + math.pi) % (2 * math.pi) - math.pi
+    ang = a1 + np.linspace(0.0, 1.0, count) * d
+    return np.stack((np.cos(ang), np.sin(ang)), axis=1)
+
+
+def boundary_probes(
+    exact: Sequence[Line | Arc],
+    programmed: Sequence[Line | Arc],
+    radius: float,
+    sign: float,
+    step: float,
+    near: np.ndarray | None = None,
+    reach: float = math.inf,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points of the exact cut boundary (n×2, mm) and unit directions away from the material (n×2).
+
+    Candidates: envelope points of the exact centre elements every ``step`` mm, disc fans at their
+    joints, the programmed vertices with their normal fans; kept where they lie on the boundary of
+    the exact swept region (distance to the exact centre path = ``radius``) and, with ``near``,
+    within ``reach`` mm of it.
+    """
+    pts, dirs = [], []
+    for el in exact:
+        p, t = element_samples(el, step)
+        n = _normal(t, sign)
+        pts.append(p + radius * n)
+        dirs.append(-n)
+    for e1, e2 in zip(exact[:-1], exact[1:], strict=False):
+        if math.dist(e1.end, e2.start) > 1e-9:
+            continue
+        j = np.array(e1.point2(1.0))
+        fan = _fan(_normal(np.array(e1.end_tangent()), sign), _normal(np.array(e2.start_tangent()), sign), 33)
+        pts.append(j[None, :] + radius * fan)
+        dirs.append(-fan)
+    for e1, e2 in zip(programmed[:-1], programmed[1:], strict=False):
+        if math.dist(e1.end[:2], e2.start[:2]) > 1e-9:
+            continue
+        v = np.array(e1.point2(1.0))
+        fan = _fan(-_normal(np.array(e1.end_tangent()), sign), -_normal(np.array(e2.start_tangent()), sign), 33)
+        pts.append(np.repeat(v[None, :], len(fan), axis=0))
+        dirs.append(fan)
+    P, D = np.vstack(pts), np.vstack(dirs)
+    if near is not None:
+        keep = np.hypot(*(P - near[None, :]).T) <= reach
+        P, D = P[keep], D[keep]
+    dmin = np.min([points_distance(el, P) for el in exact], axis=0)
+    keep = np.abs(dmin - radius) <= 1e-7 * max(radius, 1.0)
+    return P[keep], D[keep]
+
+
+def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, radius: float) -> np.ndarray:
+    """Thickness of material left along each probe ray (mm, ≥ 0).
+
+    A probe is a point of the exact cut boundary with the unit direction pointing away from the
+    material; the new tool sweeps discs of ``radius`` around ``centres``. The result is the
+    distance along the ray to the first disc (0 when the probe itself is swept). Sampled centres
+    sweep a subset of the true region, so the value is an upper bound. ``centres`` is m×2 (the
+    same for every probe) or n×m×2 (its own centres per probe).
+    """
+    rel = (centres if centres.ndim == 3 else centres[None, :, :]) - probes[:, None, :]  # n×m×2
+    along = np.einsum("nmk,nk->nm", rel, dirs)
+    perp2 = np.einsum("nmk,nmk->nm", rel, rel) - along * along
+    inside = perp2 <= radius * radius
+    root = np.sqrt(np.maximum(radius * radius - perp2, 0.0))
+    entry = np.where(inside, along - root, np.inf)
+    exit_ = np.where(inside, along + root, -np.inf)
+    # a disc that contains the probe (entry ≤ 0 ≤ exit) sweeps it: thickness 0
+    covered = np.any((entry <= 0.0) & (exit_ >= 0.0), axis=1)
+    ahead = np.where(entry > 0.0, entry, np.inf).min(axis=1)
+    out = np.where(covered, 0.0, ahead)
+    return np.minimum(out, 10.0 * radius + 1.0)
+
+
+def _path_samples(segments: Sequence[Segment], step: float) -> np.ndarray:
+    pts = []
+    for s in segments:
+        g = s.geometry
+        n = max(2, int(math.ceil(g.length / step)) + 1)
+        pts.append(np.array([g.point(x)[:2] for x in np.linspace(0.0, g.length, n)]))
+    return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def cut_deviation(
+    programmed: Sequence[Segment],
+    exact: Sequence[Segment],
+    new: Sequence[Segment],
+    *,
+    step: float = 0.002,
+    locate: bool = False,
+) -> tuple[float, np.ndarray | None]:
+    """Largest thickness of material the new path leaves beyond the exact path's cut (mm).
+
+    The exact cut boundary (envelope points, disc fans at corners, programmed vertices on the
+    boundary) is probed every ``step`` mm along its normals; for each probe the distance along
+    the normal to the first disc of radius R swept by the new path (sampled every ``step`` mm)
+    is the material left. Returns (max, location of the worst probe when ``locate``, else None).
+    """
+    from scipy.spatial import cKDTree
+
+    comp = [s for s in exact if blendable(s)]
+    if not comp:
+        return 0.0, None
+    best, where = 0.0, None
+    # group by compensation radius/side (one group in practice)
+    R, sign = comp[0].radius, material_sign(comp[0])
+    contour = [
+        p.geometry
+        for p in programmed
+        if p.role is Role.CONTOUR
+        and isinstance(p.geometry, Line | Arc)
+        and p.geometry.plane_length > 0
+        and not p.is_rapid
+    ]
+    # blendable() admits lines and arcs only: the filter drops nothing, it states the type
+    exact_elements = [s.geometry for s in comp if isinstance(s.geometry, Line | Arc)]
+    probes, dirs = boundary_probes(exact_elements, contour, R, sign, step)
+    centres = _path_samples([s for s in new if not s.is_rapid and s.radius > 0], step)
+    tree = cKDTree(centres)
+    dmin, _ = tree.query(probes)
+    # a probe within R (+ half a sample spacing of chord sag) of a centre sample is swept
+    open_ = np.nonzero(dmin > R + step * step / (4.0 * R) + 1e-9)[0]
+    if not len(open_):
+        return best, None
+    # an upper bound per probe from its nearest centres (fewer discs leave at least as much), then
+    # the exact value against every centre within R + 1 mm, in decreasing order of the bound, until
+    # no bound exceeds the largest exact value found
+    k = min(NEAREST_CENTRES, len(centres))
+    bound = np.empty(len(open_))
+    for lo in range(0, len(open_), 2048):
+        sel = open_[lo : lo + 2048]
+        _, nbr = tree.query(probes[sel], k=k)
+        nbr = np.asarray(nbr).reshape(len(sel), k)
+        bound[lo : lo + 2048] = material_left(probes[sel], dirs[sel], centres[nbr], R)
+    for j in np.argsort(-bound):
+        if bound[j] <= best:
+            break
+        i = open_[j]
+        idx = tree.query_ball_point(probes[i], R + 1.0)
+        if not idx:
+            val = 1.0
+        else:
+            val = float(material_left(probes[i : i + 1], dirs[i : i + 1], centres[idx], R)[0])
+        if val > best:
+            best, where = val, probes[i]
+    return best, (where if locate else None)

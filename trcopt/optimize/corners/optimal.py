@@ -1,0 +1,125 @@
+"""The ``optimal`` corner strategy: G2 transitions chosen by optimisation, never slower than arcs.
+
+Each corner gets a G2-continuous quintic (``Poly`` segment, role ``corner``, span of the following
+block) chosen by :class:`~trcopt.optimize.corners.qp.CornerBlendProblem` (SQP of OSQP QPs: least
+peak curvature, material left ≤ ε, no gouge). A run of ≥ 3 consecutive corners of ≤ 20° joined by
+short lines (CAM polylines) is replaced as a whole by one G2 smoothing spline
+(:mod:`~trcopt.optimize.corners.chain`), which may leave ε between the vertices and so follows the
+curve the chords approximate instead of turning at every vertex. Under the ``jerk`` objective the
+G450 transition circles and the other curvature jumps get G2 splines too.
+
+With ``select`` the plan is timed against the same-ε circular blends and a per-corner mix of both
+(:func:`~trcopt.optimize.corners.selection.fastest`) and the fastest kept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from trcopt.geometry import Arc, Line
+from trcopt.modes import TransitionKind
+from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
+from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
+from trcopt.optimize.corners.records import CornerRecord, CornerResult
+from trcopt.optimize.corners.selection import fastest
+from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite, curvature_jump_joints, find_corner_sites
+from trcopt.optimize.corners.strategies import CornerJob
+from trcopt.path import Segment
+from trcopt.verify.plan import part_contour
+
+__all__ = ["PARALLEL_MIN_CORNERS", "optimal_transitions"]
+
+PARALLEL_MIN_CORNERS = 8  # fewer corner problems are solved in-process (a pool costs ~1 s to start)
+
+CornerTask = tuple[int, CornerSite, float, tuple[float, float] | None]  # joint, site, ε (mm), jerk limits
+
+
+def optimal_transitions(job: CornerJob) -> CornerResult:
+    """``job``'s path with G2 transitions within its tolerance (see the module description)."""
+    result = _g2_transitions(job) if job.tolerance_mm > 0 else job.unchanged()
+    result.objective = job.objective  # reported with the plan, also when nothing was blended
+    return result
+
+
+def _g2_transitions(job: CornerJob) -> CornerResult:
+    """G2 quintics and splines fitted to ``job``'s tolerance, then the selection by time."""
+    segs = list(job.toolpath)
+    # under jerk limits the G450 transition circles and the other curvature jumps (line↔arc, arcs
+    # of different curvature) are worth replacing as well
+    jumps = job.objective == "jerk"
+    sites = find_corner_sites(segs, job.programmed, tolerance_mm=job.tolerance_mm, transition_circles=jumps)
+    # a small margin for the difference between the per-corner and the global sampling
+    plan = TransitionPlan(segs, sites, {k: (1.0 - TARGET_MARGIN) * job.tolerance_mm for k, _ in sites})
+    # runs of small-deflection corners (CAM polylines): one G2 spline across each run; curvature
+    # jumps: one G2 spline across each jump
+    plan.splines, plan.kept = _solve_chains(
+        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains
+    )
+
+    def solve_quintics(current: TransitionPlan) -> None:
+        # the sites without a G2 quintic at their current tolerance: all at first, then the tightened
+        eps = current.eps
+        tasks = [(k, site, eps[k], job.jerk_limits) for k, site in current.single if (k, eps[k]) not in current.solved]
+        _solve_sites(tasks, current.solved, job.workers)
+
+    result = fit_tolerance(plan, job.programmed, job.tolerance_mm, job.strategy, solve_quintics)
+    if job.select and (result.count(TransitionKind.QUINTIC) or result.count(TransitionKind.SPLINE)):
+        result = fastest(job, plan, result)
+    if plan.kept:
+        result.corners = sorted(result.corners + plan.kept, key=lambda r: r.index)
+    return result
+
+
+def _solve_chains(
+    segs: list[Segment],
+    programmed: Sequence[Segment],
+    sites: list[tuple[int, CornerSite]],
+    tolerance_mm: float,
+    *,
+    runs: bool = True,
+    knots: bool = False,
+) -> tuple[list[Spline], list[CornerRecord]]:
+    """G2 splines across the runs of small-deflection corners (``runs``) and across the curvature
+    jumps (``knots``): the feasible ones, and records of the curvature jumps that keep the exact
+    path."""
+    plain = [k for k, site in sites if site.min_cut == 0.0]
+    owned = {k for k, _ in sites} | {k + 1 for k, site in sites if site.min_cut > 0.0}
+    jumps = curvature_jump_joints(segs, owned) if knots else []
+    owned |= set(jumps)
+    contour = [
+        p.geometry
+        for p in part_contour(programmed, segs)
+        if isinstance(p.geometry, Line | Arc) and not p.is_rapid
+    ]
+    eps = (1.0 - TARGET_MARGIN) * tolerance_mm
+    out, kept = [], []
+    found = find_chains(segs, plain, owned, contour) if runs else []
+    if knots:
+        # curvature jumps: each line↔arc joint, and each G450 transition circle between two lines
+        # as a whole (its two joints); a feasible spline takes the place of the circle's site
+        runs_k = [[k] for k in jumps] + [[k, k + 1] for k, site in sites if site.min_cut > 0.0]
+        found += [knot_site(segs, run, owned, contour, eps) for run in runs_k]
+    for chain in found:
+        sol = solve_chain(chain, eps)
+        if sol.ok:
+            out.append((chain, sol, eps))
+        elif chain.max_turn <= TANGENT_TOL_RAD and len(chain.joints) == 1:  # (a circle keeps its site)
+            kept.append(kept_jump(segs, chain, f"spline infeasible ({sol.message})"))
+    return out, kept
+
+
+def _solve_one(task: CornerTask) -> tuple[tuple[int, float], CornerSolution]:
+    k, site, eps, limits = task
+    return (k, eps), CornerBlendProblem(site, eps, limits=limits).solve()
+
+
+def _solve_sites(tasks: list[CornerTask], solved: dict[tuple[int, float], CornerSolution], workers: int) -> None:
+    """Solve the corner problems of ``tasks`` into ``solved`` (keyed by corner index and ε)."""
+    if workers > 1 and len(tasks) >= PARALLEL_MIN_CORNERS:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            solved.update(pool.map(_solve_one, tasks, chunksize=max(1, len(tasks) // (4 * workers))))
+    else:
+        solved.update(map(_solve_one, tasks))

@@ -1,0 +1,91 @@
+"""The choice between G2 and circular transitions by cycle time (the ``optimal`` strategy's ``select``).
+
+A per-corner G2 quintic needs zero curvature where it meets a line, so between short chords a
+circular blend of the same ε can carry more speed under acceleration limits. :func:`fastest` times
+the G2 plan, the same-ε circular blends everywhere and a per-corner mix (chosen by a local time
+estimate) with the timing stage and keeps the fastest, so the result is never slower than the
+circular blends.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from trcopt.config import DEFAULT_MACHINE
+from trcopt.geometry import Arc
+from trcopt.modes import TransitionKind
+from trcopt.optimize.corners.arc import arc_transitions
+from trcopt.optimize.corners.assemble import TransitionPlan, assemble
+from trcopt.optimize.corners.boundary import cut_deviation
+from trcopt.optimize.corners.circular import circular_blend
+from trcopt.optimize.corners.curves import quintic_basis
+from trcopt.optimize.corners.qp import CornerGeometry
+from trcopt.optimize.corners.records import CornerResult
+from trcopt.optimize.corners.strategies import CornerJob
+
+__all__ = ["fastest"]
+
+
+def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> CornerResult:
+    """The fastest on ``job.machine`` of: ``optimal`` (the G2 transitions of ``plan``, with splines
+    across runs of CAM chords), same-ε circular blends at every site, and a per-corner choice by
+    :func:`_local_time` — timed by the timing stage. The records keep the G2 solutions, so the
+    report says why a corner is circular."""
+    from trcopt.timing import time_parameterize
+
+    m = job.machine or DEFAULT_MACHINE
+    segs, eps_of, solved = plan.segments, plan.eps, plan.solved
+    arc = arc_transitions(CornerJob("arc", segs, job.programmed, job.tolerance_mm))
+    t_opt = time_parameterize(optimal.segments, m).duration
+    t_arc = time_parameterize(arc.segments, m).duration
+    best, t_best = (optimal, t_opt) if t_opt <= t_arc else (arc, t_arc)
+    a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
+    single = plan.single
+    choice = {}
+    for k, site in single:
+        if site.min_cut > 0.0:  # transition circles: G2 or the circle, nothing to choose here
+            continue
+        sol = solved.get((k, eps_of[k]))
+        built = circular_blend(site, eps_of[k])
+        if sol is None or not sol.ok or built is None:
+            continue
+        feed_mm_s = segs[k].feed_mm_s
+        feed = m.rapid_mm_s if feed_mm_s is None else float(feed_mm_s)
+        quicker = _local_time(sol.geometry, built, feed, a_lat) <= 0.0
+        choice[k] = TransitionKind.QUINTIC if quicker else TransitionKind.ARC
+    if set(choice.values()) == {TransitionKind.QUINTIC, TransitionKind.ARC}:
+        hybrid = assemble(segs, single, eps_of, solved, job.strategy, choice, plan.splines)
+        hybrid.max_deviation_mm = cut_deviation(job.programmed, segs, hybrid.segments)[0]
+        if hybrid.max_deviation_mm <= job.tolerance_mm:
+            t_h = time_parameterize(hybrid.segments, m).duration
+            if t_h < t_best:
+                best, t_best = hybrid, t_h
+    if best is arc:
+        # keep the G2 solutions in the records: the report says why each corner is circular
+        every = plan.sites or single
+        best = assemble(segs, every, eps_of, solved, job.strategy, {k: TransitionKind.ARC for k, _ in every})
+        best.max_deviation_mm = arc.max_deviation_mm
+    best.mode = job.strategy
+    return best
+
+
+def _local_time(q: CornerGeometry, built: tuple[Arc, float, float], feed: float, a_lat: float) -> float:
+    """Estimated time of the quintic minus that of the circular blend over the same stretch
+    (from the farther start to the farther end of the two), s: each curve at
+    ``min(feed, sqrt(a_lat/|κ|))`` (mm/s; ``a_lat`` mm/s²), the uncovered line pieces at the feed."""
+    arc, ta, tb = built
+    C = np.array([q.p0, q.d0, q.a0, q.a1, q.d1, q.p1])
+    H0, H1, H2 = quintic_basis(np.linspace(0.0, 1.0, 129))
+    d1, d2 = H1 @ C, H2 @ C
+    sp = np.hypot(d1[:, 0], d1[:, 1])
+    kappa = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(sp, 1e-300) ** 3
+    inv_v = 1.0 / np.minimum(feed, np.sqrt(a_lat / np.maximum(kappa, 1e-300)))
+    f = sp * inv_v
+    t_q = float(np.sum(0.5 * (f[1:] + f[:-1])) / 128.0)
+    t_a = arc.plane_length / min(feed, math.sqrt(a_lat * arc.radius))
+    sa, sb = max(q.sa, ta), max(q.sb, tb)
+    t_q += (sa - q.sa + sb - q.sb) / feed
+    t_a += (sa - ta + sb - tb) / feed
+    return t_q - t_a
