@@ -16,6 +16,7 @@ from trcopt.controllers.base import Controller
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import Plane
 from trcopt.io.gcode import GcodeFlavor
+from trcopt.io.schema import validate_plan
 from trcopt.modes import Side
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
@@ -122,7 +123,9 @@ def test_a_registered_controller_is_reachable_from_the_command_line(toy, tmp_pat
     out_json, out_gcode = tmp_path / "p.json", tmp_path / "p.ngc"
     code = main(["plan", str(program), "--no-timing", "--json", str(out_json), "--gcode", str(out_gcode)])
     assert code == 0
-    assert json.loads(out_json.read_text())["dialect"] == "toy"
+    doc = json.loads(out_json.read_text())
+    assert doc["dialect"] == "toy"
+    validate_plan(doc)  # the plan JSON contract holds for any registered controller
     text = out_gcode.read_text()
     assert text.splitlines()[2].startswith("G21 G17") and text.rstrip().endswith("M2")
     assert main(["plan", str(program), "--no-timing", "--profile", "toy", "-q"]) == 0

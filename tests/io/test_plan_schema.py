@@ -155,16 +155,16 @@ def _mutations() -> dict:
         "ok as string": lambda d: d.__setitem__("ok", "true"),
         "other schema": lambda d: d.__setitem__("schema", "trcopt.plan/2"),
         "other units": lambda d: d.__setitem__("units", "inch"),
-        "unknown dialect": lambda d: d.__setitem__("dialect", "fanuc"),
+        "dialect not a name": lambda d: d.__setitem__("dialect", "Fanuc 0i"),
         "NaN written as a string": lambda d: d["timing"].__setitem__("duration_s", "NaN"),
         "Infinity written as a string": seg(1, "t_end_s", "Infinity"),
         "NaN number": lambda d: d["timing"].__setitem__("duration_s", math.nan),
         "infinite coordinate": seg(1, "end", [-5.0, math.inf, 0.0]),
         "timing without machine": lambda d: d["timing"].pop("machine"),
         "verification ok as number": lambda d: d["verification"].__setitem__("ok", 1),
-        "unknown profile": lambda d: d.__setitem__("profile", "fanuc"),
-        "corners of unknown mode": lambda d: d.__setitem__(
-            "corners", {"mode": "exact", "tolerance_mm": 0.01, "blended": 0, "quintic": 0, "arc": 0,
+        "profile not a name": lambda d: d.__setitem__("profile", "Fanuc 0i"),
+        "corners without a strategy name": lambda d: d.__setitem__(
+            "corners", {"mode": "", "tolerance_mm": 0.01, "blended": 0, "quintic": 0, "arc": 0,
                         "max_deviation_mm": 0.0}
         ),
     }
