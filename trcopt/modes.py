@@ -27,6 +27,8 @@ __all__ = [
     "RetractEnd",
     "TransitionKind",
     "ToolUnit",
+    "CornerObjective",
+    "LeadObjective",
 ]
 
 E = TypeVar("E", bound=enum.Enum)
@@ -163,3 +165,17 @@ class ToolUnit(enum.Enum):
     def mm(self) -> float:
         """Millimetres per unit."""
         return 25.4 if self is ToolUnit.INCH else 1.0
+
+
+class CornerObjective(enum.Enum):
+    """What optimised corner transitions minimise."""
+
+    CURVATURE = "curvature"  # the peak curvature: the speed limit under acceleration limits
+    JERK = "jerk"  # the larger of the curvature and the curvature rate scaled by the jerk limit
+
+
+class LeadObjective(enum.Enum):
+    """What an optimal lead-in was ranked by."""
+
+    TIME = "time"  # the traverse time of the timing stage, s
+    SURROGATE = "surrogate"  # length + 2·ρmin·∫κ² ds, mm (when the timing stage is unavailable)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from trcopt.modes import ToolUnit, TransitionKind, parse_enum
+from trcopt.modes import CornerObjective, ToolUnit, TransitionKind, parse_enum
 from trcopt.nc.model import NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
@@ -225,7 +225,7 @@ def plan(
     if opts.corners != corner_strategies.EXACT and toolpath and result.ok:
         from trcopt.optimize.corners.blend import blend_corners
 
-        objective = "jerk" if opts.jerk and _has_xy_jerk(opts.machine) else "curvature"
+        objective = CornerObjective.JERK if opts.jerk and _has_xy_jerk(opts.machine) else CornerObjective.CURVATURE
         blended = blend_corners(
             toolpath,
             programmed,
@@ -244,7 +244,7 @@ def plan(
         result.extra["corners"] = {
             "mode": opts.corners,
             "tolerance_mm": opts.tolerance_mm,
-            "objective": blended.objective,
+            "objective": None if blended.objective is None else blended.objective.value,
             "blended": blended.blended,
             "quintic": blended.count(TransitionKind.QUINTIC),
             "spline": blended.count(TransitionKind.SPLINE),

@@ -14,6 +14,7 @@ import pytest
 
 from trcopt.cli import main
 from trcopt.errors import TrcoptError
+from trcopt.modes import CornerObjective
 from trcopt.optimize.corners import CornerRecord, CornerResult, find_corner_sites, strategies
 from trcopt.optimize.corners.strategies import CornerJob, CornerStrategy
 from trcopt.pipeline import PlanOptions, plan_file
@@ -77,7 +78,7 @@ def test_a_strategy_registered_at_run_time_runs_through_the_pipeline(toy: Corner
     exact = plan_file(CORNER, PlanOptions(timing=False))
     result = plan_file(CORNER, PlanOptions(corners="toy", tolerance_mm=0.05, timing=False))
     (job,) = JOBS
-    assert job.strategy == "toy" and job.tolerance_mm == 0.05 and job.objective == "curvature"
+    assert job.strategy == "toy" and job.tolerance_mm == 0.05 and job.objective is CornerObjective.CURVATURE
     assert result.toolpath == exact.toolpath
     assert result.extra["corners"] == {
         "mode": "toy",

@@ -14,6 +14,7 @@ import pytest
 from trcopt.cli.leadin import add_arguments
 from trcopt.errors import SolverError
 from trcopt.geometry import Arc, Line, Poly
+from trcopt.modes import LeadObjective
 from trcopt.optimize.leads.leadin import optimal_lead
 from trcopt.optimize.leads.report import compare_with_sar, leadin_gcode, leadin_svg
 from trcopt.pipeline import PlanOptions, plan
@@ -112,7 +113,7 @@ def _check_lead(res, contour, R, safety, rho_min, region=None):
 def test_optimal_lead_satisfies_the_constraints(contour, start, side) -> None:
     res = optimal_lead(start, contour, 5.0, side, rho_min=3.0, safety=1.0, feed_mm_s=20.0)
     _check_lead(res, contour, 5.0, 1.0, 3.0)
-    assert res.objective in ("time", "surrogate")
+    assert res.objective in (LeadObjective.TIME, LeadObjective.SURROGATE)
     assert res.candidates and all(c.solution.ok for c in res.candidates)
     assert res.time_s == min(c.time_s for c in res.candidates)
     json.dumps(res.to_json())

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from trcopt import controllers
+from trcopt.modes import LeadObjective
 
 __all__ = ["add_arguments", "run_leadin", "lead_inputs_from_plan", "read_region"]
 
@@ -141,7 +142,7 @@ def run_leadin(args: argparse.Namespace) -> int:
     except (TrcoptError, ValueError) as exc:  # a default SAR may be impossible (alarm)
         print(f"note: SAR defaults not comparable: {exc}", file=sys.stderr)
         baselines = []
-    unit = "s" if lead.objective == "time" else "mm (surrogate)"
+    unit = "s" if lead.objective is LeadObjective.TIME else "mm (surrogate)"
     print(
         f"{args.program}: optimal lead {lead.kind}, length {lead.length:.3f} mm, "
         f"{lead.objective} {lead.time_s:.4f} {unit}, min clearance {lead.best.min_clearance:.3f} mm"

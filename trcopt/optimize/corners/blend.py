@@ -13,13 +13,12 @@ from collections.abc import Sequence
 
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import ConfigError
+from trcopt.modes import CornerObjective, parse_enum
 from trcopt.optimize.corners import strategies
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.path import Segment
 
-__all__ = ["OBJECTIVES", "blend_corners", "optimize_corners"]
-
-OBJECTIVES = ("curvature", "jerk")  # what optimised transitions may minimise
+__all__ = ["blend_corners", "optimize_corners"]
 
 
 def blend_corners(
@@ -31,7 +30,7 @@ def blend_corners(
     mode: str = "optimal",
     workers: int = 1,
     select: bool = True,
-    objective: str = "curvature",
+    objective: CornerObjective | str = CornerObjective.CURVATURE,
     chains: bool = True,
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
@@ -78,10 +77,9 @@ def blend_corners(
         The ``jerk`` objective on a machine without X/Y jerk limits.
     """
     strategy = strategies.get(mode)
-    if objective not in OBJECTIVES:
-        raise ValueError(f"unknown corner objective {objective!r}; valid: {', '.join(OBJECTIVES)}")
+    objective = parse_enum(CornerObjective, objective, "corner objective")
     jerk_limits = None
-    if objective == "jerk":
+    if objective is CornerObjective.JERK:
         m = machine or DEFAULT_MACHINE
         jx, jy = m.axis("X").jmax_mm_s3, m.axis("Y").jmax_mm_s3
         if jx is None or jy is None:

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from trcopt.geometry import Arc, Line
-from trcopt.modes import TransitionKind
+from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
 from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
@@ -47,7 +47,7 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
     segs = list(job.toolpath)
     # under jerk limits the G450 transition circles and the other curvature jumps (line↔arc, arcs
     # of different curvature) are worth replacing as well
-    jumps = job.objective == "jerk"
+    jumps = job.objective is CornerObjective.JERK
     sites = find_corner_sites(segs, job.programmed, tolerance_mm=job.tolerance_mm, transition_circles=jumps)
     # a small margin for the difference between the per-corner and the global sampling
     plan = TransitionPlan(segs, sites, {k: (1.0 - TARGET_MARGIN) * job.tolerance_mm for k, _ in sites})

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from trcopt.modes import TransitionKind
+from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.path import Segment
 
 if TYPE_CHECKING:
@@ -81,7 +81,7 @@ class CornerResult:
     mode:
         Name of the strategy that made it (:mod:`trcopt.optimize.corners.strategies`).
     objective:
-        What the transitions minimise (``"curvature"`` or ``"jerk"``); None when the strategy
+        What the transitions minimise; None when the strategy
         optimises nothing.
     """
 
@@ -89,7 +89,7 @@ class CornerResult:
     corners: list[CornerRecord] = field(default_factory=list)
     max_deviation_mm: float = 0.0
     mode: str = "optimal"
-    objective: str | None = None
+    objective: CornerObjective | None = None
 
     @property
     def blended(self) -> int:

@@ -22,6 +22,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from trcopt.config import Machine
+from trcopt.modes import CornerObjective
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.path import Segment
 
@@ -52,7 +53,7 @@ class CornerJob:
     select:
         Time the alternatives and keep the fastest (see :func:`blend_corners`).
     objective:
-        ``"curvature"`` or ``"jerk"``: what optimised transitions minimise.
+        What optimised transitions minimise.
     jerk_limits:
         ``(amax mm/s², jmax mm/s³)`` of the machine's X/Y axes for the ``jerk`` objective, else None.
     chains:
@@ -66,7 +67,7 @@ class CornerJob:
     machine: Machine | None = None
     workers: int = 1
     select: bool = True
-    objective: str = "curvature"
+    objective: CornerObjective = CornerObjective.CURVATURE
     jerk_limits: tuple[float, float] | None = None
     chains: bool = True
 

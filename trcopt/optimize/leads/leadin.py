@@ -37,7 +37,7 @@ from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import GeometryError, SolverError
 from trcopt.geometry import Arc, Line, Plane
 from trcopt.geometry.vec import Vec2
-from trcopt.modes import Side, parse_enum
+from trcopt.modes import LeadObjective, Side, parse_enum
 from trcopt.optimize.leads.bezier import poly_guess, solve_poly
 from trcopt.optimize.leads.context import RHO_SCAN, LeadContext, inside_margin
 from trcopt.optimize.leads.line_arc import solve_line_arc
@@ -64,7 +64,7 @@ def lead_time(
     feed_mm_s: float,
     plane: Plane = Plane.G17,
     rho_min: float = 1.0,
-) -> tuple[float, str]:
+) -> tuple[float, LeadObjective]:
     """Traverse time (s) of the lead plus the first contour element with the timing stage, or the
     documented surrogate ``length + 2·ρmin·∫κ² ds`` (mm) when the timing stage is missing."""
     els = [*elements, first_contour]
@@ -73,9 +73,9 @@ def lead_time(
     except ImportError:
         length = sum(e.length for e in els)
         bend = sum(abs(e.sweep) / e.radius for e in els if isinstance(e, Arc))
-        return length + 2.0 * rho_min * bend, "surrogate"
+        return length + 2.0 * rho_min * bend, LeadObjective.SURROGATE
     segs = lead_segments(els, plane, feed_mm_s, Side.OFF, 0.0)
-    return float(time_parameterize(segs, machine).duration), "time"
+    return float(time_parameterize(segs, machine).duration), LeadObjective.TIME
 
 
 def _sar_shape(ctx: LeadContext, c: int, rho: float, phi: float, elements: Sequence[Element]) -> SarShape | None:
@@ -167,7 +167,7 @@ def optimal_lead(
     first_tc = offset_start(els[0], radius, side_e)
     candidates: list[LeadCandidate] = []
     failures: list[tuple[str, Solution[Any], dict[str, float]]] = []
-    objective = "time"
+    objective = LeadObjective.TIME
 
     def consider(
         kind: str, sol: Solution[Any], elements: tuple[Element, ...], rho: float | None, phi: float | None

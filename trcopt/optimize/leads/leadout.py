@@ -17,7 +17,7 @@ from typing import Any
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.geometry import Plane
 from trcopt.geometry.vec import Vec2
-from trcopt.modes import Side, parse_enum
+from trcopt.modes import LeadObjective, Side, parse_enum
 from trcopt.optimize.leads.leadin import optimal_lead
 from trcopt.optimize.leads.records import Element, LeadResult, lead_segments
 from trcopt.path import Role, Segment
@@ -49,7 +49,7 @@ class LeadOutResult:
         return self.mirrored.time_s
 
     @property
-    def objective(self) -> str:
+    def objective(self) -> LeadObjective:
         return self.mirrored.objective
 
     @property

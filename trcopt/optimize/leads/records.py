@@ -17,7 +17,7 @@ from typing import Any
 from trcopt.errors import SourceSpan
 from trcopt.geometry import Arc, Line, Plane, Poly
 from trcopt.geometry.vec import Vec2, Vec3
-from trcopt.modes import Side
+from trcopt.modes import LeadObjective, Side
 from trcopt.path import Role, Segment
 from trcopt.solution import Solution
 
@@ -58,12 +58,12 @@ class LeadResult:
     ``elements`` are tool-centre elements in plane coordinates from P0 to P4c; ``segments``
     the same as approach :class:`~trcopt.path.Segment` values (absolute coordinates via
     ``plane``); ``time_s`` is the objective value (traverse time over lead + first contour
-    element, s, or the surrogate in mm when ``objective == "surrogate"``).
+    element, s, or the surrogate in mm when ``objective`` is ``LeadObjective.SURROGATE``).
     """
 
     best: LeadCandidate
     candidates: tuple[LeadCandidate, ...]
-    objective: str
+    objective: LeadObjective
     p0: Vec3
     p4: Vec3
     p4c: Vec3
@@ -102,7 +102,7 @@ class LeadResult:
     def to_json(self) -> dict[str, Any]:
         return {
             "kind": self.kind,
-            "objective": self.objective,
+            "objective": self.objective.value,
             "time_s": self.time_s,
             "length_mm": self.length,
             "min_clearance_mm": self.best.min_clearance,

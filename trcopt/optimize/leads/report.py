@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from trcopt.geometry import Arc, Line, Plane, Poly
-from trcopt.modes import SarContour, SarSegmentation, SarSide
+from trcopt.modes import LeadObjective, SarContour, SarSegmentation, SarSide
 from trcopt.nc.model import SarSpec
 from trcopt.optimize.leads.context import LeadContext
 from trcopt.optimize.leads.leadin import lead_time
@@ -111,10 +111,10 @@ def leadin_gcode(result: LeadResult, program: str = "") -> str:
     """
     plane = result.plane
     f_mm_min = result.feed_mm_s * 60.0
-    lines = [f"; optimal lead-in ({result.kind}, objective {result.objective}) {program}".rstrip()]
+    lines = [f"; optimal lead-in ({result.kind}, objective {result.objective.value}) {program}".rstrip()]
     lines.append(
-        f"; length {result.length:.3f} mm, {'time' if result.objective == 'time' else 'surrogate'} "
-        f"{result.time_s:.4f}{' s' if result.objective == 'time' else ' mm'}"
+        f"; length {result.length:.3f} mm, {result.objective.value} "
+        f"{result.time_s:.4f}{' s' if result.objective is LeadObjective.TIME else ' mm'}"
     )
     lines.append(f"{plane.value} G90 G0 {_words(plane, result.p0)}")
     trc = "G41" if result.side.sign > 0 else "G42"
