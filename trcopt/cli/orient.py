@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 
 from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan
-from trcopt.kinematics.carrier import ALARM_KINEMATIC_TYPE, Carrier, carrier_from_assignments, load_carrier_toml
+from trcopt.kinematics.carrier import ALARM_KINEMATIC_TYPE, Carrier, carrier_from_assignments
+from trcopt.kinematics.carrier_toml import load_carrier_toml
 from trcopt.kinematics.forward import (
     ToolFamily,
     initial_direction,
@@ -26,15 +27,10 @@ from trcopt.kinematics.forward import (
     table_offset,
     tool_length_vector,
 )
-from trcopt.kinematics.inverse import (
-    OrientationWord,
-    Selection,
-    frame_matrix,
-    inverse_solutions,
-    reference_angles,
-    select_solution,
-)
+from trcopt.kinematics.inverse import inverse_solutions
+from trcopt.kinematics.orientation import frame_matrix, reference_angles
 from trcopt.kinematics.program import scan_program
+from trcopt.kinematics.selection import OrientationWord, Selection, select_solution
 
 __all__ = ["add_arguments", "run_orient", "DEFAULT_TOOL_LENGTHS"]
 

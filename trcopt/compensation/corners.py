@@ -4,7 +4,7 @@ Pure functions of the two elements' programmed geometry and modal state: classif
 junction (tangential, outside, inside), the G450 transition circle (with the DISC conic), the
 G451 / near-tangent intersection, and the approach/retraction junctions of NORM, KONT, KONTT and
 KONTC. Inside corners depend on how far the previous block has been trimmed and are resolved by
-the engine.
+:mod:`trcopt.compensation.junctions`.
 """
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from trcopt.compensation.elements import Elem, ElemKind, Piece
 from trcopt.config import TrcSettings
 from trcopt.geometry import vec
 from trcopt.geometry.intersect import intersections
-from trcopt.geometry.poly import conic_curve, hermite_curve
+from trcopt.geometry.poly import Poly, conic_curve, hermite_curve
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec2
-from trcopt.modes import ApproachMode, CornerMode
+from trcopt.modes import CornerMode
 from trcopt.path import Role
 
 __all__ = ["JunctionKind", "Outside", "classify", "outside_corner", "transition_conic"]
@@ -64,7 +64,7 @@ class Outside:
     lam_b: float = 0.0
 
 
-def transition_conic(k: Vec2, q0: Vec2, q2: Vec2, radius: float, delta: float, disc: int, w: float):  # type: ignore[no-untyped-def]
+def transition_conic(k: Vec2, q0: Vec2, q2: Vec2, radius: float, delta: float, disc: int, w: float) -> Poly:
     """DISC transition (spec R22, [A]): rational quadratic Bézier whose mid-point lies at
     ``R + DISC/100 · (R/cos(|δ|/2) − R)`` from the corner K; DISC=100 reaches the intersection."""
     half = abs(delta) / 2.0
@@ -111,13 +111,13 @@ def outside_corner(
     q2 = b.off_start.point2(0.0)
     radius = vec.dist(q0, k)
     w = a.prog.end[2]
-    carrier: Arc | object
+    carrier: Arc | Poly
     if disc > 0:
         carrier = transition_conic(k, q0, q2, radius, delta, disc, w)
     else:
         carrier = Arc(k, radius, math.atan2(q0[1] - k[1], q0[0] - k[0]), delta, w, w)
     owner = a if arc_owner_is_a else b
-    piece = Piece(owner, arc_role, 0.0, 1.0, main=False, carrier=carrier)  # type: ignore[arg-type]
+    piece = Piece(owner, arc_role, 0.0, 1.0, main=False, carrier=carrier)
     if arc_owner_is_a:
         return Outside(trailing=[piece])
     return Outside(leading=[piece])
@@ -136,16 +136,16 @@ def approach_polynomial(a: Elem, b: Elem, curvature_continuous: bool) -> Piece:
     s3 = (s_pt[0], s_pt[1], a.prog.end[2])
     chord = math.dist(p0, s3)
     t_end = _tangent3(off, at_start=True)
-    d1 = tuple(chord * c for c in t_end)
+    d1 = (chord * t_end[0], chord * t_end[1], chord * t_end[2])
     u = vec.unit(vec.sub((s3[0], s3[1]), (p0[0], p0[1]))) if chord > 0 else (1.0, 0.0)
     d0 = (chord * u[0], chord * u[1], s3[2] - p0[2])
     if curvature_continuous:
         kappa = off.curvature2(0.0) if isinstance(off, Arc) else 0.0
         n = vec.rot90(off.start_tangent())
         a1 = (chord * chord * kappa * n[0], chord * chord * kappa * n[1], 0.0)
-        poly = hermite_curve(p0, d0, s3, d1, (0.0, 0.0, 0.0), a1, label="KONTC")  # type: ignore[arg-type]
+        poly = hermite_curve(p0, d0, s3, d1, (0.0, 0.0, 0.0), a1, label="KONTC")
     else:
-        poly = hermite_curve(p0, d0, s3, d1, label="KONTT")  # type: ignore[arg-type]
+        poly = hermite_curve(p0, d0, s3, d1, label="KONTT")
     return Piece(a, Role.APPROACH, 0.0, 1.0, main=False, carrier=poly)
 
 
@@ -157,16 +157,16 @@ def retract_polynomial(a: Elem, b: Elem, curvature_continuous: bool) -> Piece:
     t3 = b.prog.end
     chord = math.dist(e3, t3)
     t_start = _tangent3(off, at_start=False)
-    d0 = tuple(chord * c for c in t_start)
+    d0 = (chord * t_start[0], chord * t_start[1], chord * t_start[2])
     u = vec.unit(vec.sub((t3[0], t3[1]), e_pt)) if chord > 0 else (1.0, 0.0)
     d1 = (chord * u[0], chord * u[1], t3[2] - e3[2])
     if curvature_continuous:
         kappa = off.curvature2(1.0) if isinstance(off, Arc) else 0.0
         n = vec.rot90(off.end_tangent())
         a0 = (chord * chord * kappa * n[0], chord * chord * kappa * n[1], 0.0)
-        poly = hermite_curve(e3, d0, t3, d1, a0, (0.0, 0.0, 0.0), label="KONTC")  # type: ignore[arg-type]
+        poly = hermite_curve(e3, d0, t3, d1, a0, (0.0, 0.0, 0.0), label="KONTC")
     else:
-        poly = hermite_curve(e3, d0, t3, d1, label="KONTT")  # type: ignore[arg-type]
+        poly = hermite_curve(e3, d0, t3, d1, label="KONTT")
     return Piece(b, Role.RETRACT, 0.0, 1.0, main=False, carrier=poly)
 
 
@@ -184,6 +184,3 @@ def corner_mode_for(a: Elem, b: Elem) -> tuple[CornerMode, int]:
     owner = a if a.kind is ElemKind.APPROACH else b
     return owner.comp.corner, owner.comp.disc
 
-
-def approach_mode(elem: Elem) -> ApproachMode:
-    return elem.comp.approach

@@ -97,9 +97,10 @@ class Elem:
     @property
     def degenerate(self) -> bool:
         """Offset circle with radius ≤ 0 (inside arc smaller than the tool, R30)."""
-        if not isinstance(self.prog, Arc):
+        off_start, off_end = self.off_start, self.off_end
+        if not (isinstance(off_start, Arc) and isinstance(off_end, Arc)):  # the offsets of a line
             return False
-        return min(self.off_start.radius, self.off_end.radius) <= 0.0  # type: ignore[union-attr]
+        return min(off_start.radius, off_end.radius) <= 0.0
 
     @property
     def feed(self) -> float | None:
@@ -142,10 +143,16 @@ class Piece:
     p1: Vec2 | None = None
 
     def end_carrier(self) -> Geometry:
-        return self.elem.off_end if self.main else self.carrier  # type: ignore[return-value]
+        if self.main:
+            return self.elem.off_end
+        assert self.carrier is not None  # an inserted piece always carries its own element
+        return self.carrier
 
     def start_carrier(self) -> Geometry:
-        return self.elem.off_start if self.main else self.carrier  # type: ignore[return-value]
+        if self.main:
+            return self.elem.off_start
+        assert self.carrier is not None
+        return self.carrier
 
     def start_point(self) -> Vec2:
         if self.p0 is not None:
@@ -190,20 +197,20 @@ class Piece:
                 last = max(1, len(sub.points) - 1)
                 pts = tuple((p[0], p[1], w0 + (w1 - w0) * (k / last)) for k, p in enumerate(sub.points))
                 return Poly(pts, sub.tangents, sub.cum, sub.label)
-            return c.sub(self.lam0, self.lam1, w0, w1)  # type: ignore[union-attr]
+            return c.sub(self.lam0, self.lam1, w0, w1)
         prog = self.elem.prog
         p0, p1 = self.start_point(), self.end_point()
         if isinstance(prog, Line):
             return Line((p0[0], p0[1], w0), (p1[0], p1[1], w1))
         if not self.elem.variable and self.p0 is None and self.p1 is None:
             return self.elem.off_end.sub(self.lam0, self.lam1, w0, w1)
-        c = prog.center
-        r_a, r_b = vec.dist(p0, c), vec.dist(p1, c)
-        a0 = math.atan2(p0[1] - c[1], p0[0] - c[0])
+        center = prog.center
+        r_a, r_b = vec.dist(p0, center), vec.dist(p1, center)
+        a0 = math.atan2(p0[1] - center[1], p0[0] - center[0])
         sweep = (self.lam1 - self.lam0) * prog.sweep
         if abs(r_a - r_b) <= 1e-12:
-            return Arc(c, r_a, a0, sweep, w0, w1)
-        return spiral_curve(c, r_a, r_b, a0, sweep, w0, w1)
+            return Arc(center, r_a, a0, sweep, w0, w1)
+        return spiral_curve(center, r_a, r_b, a0, sweep, w0, w1)
 
 
 def _point2(g: Geometry, lam: float) -> Vec2:

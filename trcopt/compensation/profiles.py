@@ -10,7 +10,7 @@ defines it in its own folder (``trcopt.controllers.heidenhain.profile``).
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from trcopt.compensation.engine import compensate
 from trcopt.config import TrcSettings
@@ -41,7 +41,7 @@ class ControllerProfile:
 
     def engine_settings(self, base: TrcSettings | None = None) -> TrcSettings:
         """``base`` (default settings when omitted) with the profile's overrides."""
-        return replace(base or TrcSettings(), **dict(self.settings))
+        return (base or TrcSettings()).with_(**self.settings)
 
 
 def map_diagnostic(profile: ControllerProfile, diag: Diagnostic) -> Diagnostic:

@@ -1,11 +1,15 @@
 """Toolholder with orientation capability (SINUMERIK ``$TC_CARR``): data, forward and inverse.
 
-* :mod:`.carrier` — the ``$TC_CARRn[m]`` data block, from assignments or TOML;
+* :mod:`.carrier` — the ``$TC_CARRn[m]`` data block, from and to assignments;
+* :mod:`.carrier_toml` — the data block as a TOML carrier file;
 * :mod:`.forward` — tool length vector, table offset and tool direction for given angles;
-* :mod:`.inverse` — closed-form solutions for a requested orientation and the selection rules
-  (360° shift, Hirth grid, order, software limits, ``$P_TCANG``);
-* :mod:`.program` — TCARR / TCOABS / TCOFR in a part program (plan JSON key ``"toolholder"``);
-* :mod:`.cli` — the ``trcopt orient`` subcommand.
+* :mod:`.inverse` — closed-form solutions for a requested orientation;
+* :mod:`.selection` — the selection rules (360° shift, Hirth grid, order, software limits,
+  ``$P_TCANG``);
+* :mod:`.orientation` — TCOFR/TCOFRZ/Y/X and TCOABS: the angles a holder activation uses;
+* :mod:`.program` — TCARR / TCOABS / TCOFR in a part program (plan JSON key ``"toolholder"``).
+
+The ``trcopt orient`` subcommand is :mod:`trcopt.cli.orient`.
 
 Angles in degrees, lengths in mm throughout.
 
@@ -51,9 +55,8 @@ from trcopt.kinematics.carrier import (
     Carrier,
     KinematicType,
     carrier_from_assignments,
-    carrier_from_toml_dict,
-    load_carrier_toml,
 )
+from trcopt.kinematics.carrier_toml import carrier_from_toml_dict, load_carrier_toml
 from trcopt.kinematics.forward import (
     ToolFamily,
     WearMode,
@@ -67,23 +70,17 @@ from trcopt.kinematics.forward import (
     table_offset,
     tool_length_vector,
 )
-from trcopt.kinematics.inverse import (
-    AnglePair,
-    InverseResult,
+from trcopt.kinematics.inverse import AnglePair, InverseResult, SolutionKind, inverse_solutions
+from trcopt.kinematics.orientation import frame_matrix, reference_angles, solve_orientation, tcoabs_angles
+from trcopt.kinematics.program import evaluate_toolholder, scan_program
+from trcopt.kinematics.selection import (
     OrientationWord,
     Selection,
-    SolutionKind,
     fit_limits,
-    frame_matrix,
     hirth_round,
-    inverse_solutions,
-    reference_angles,
     select_solution,
     shift_toward,
-    solve_orientation,
-    tcoabs_angles,
 )
-from trcopt.kinematics.program import evaluate_toolholder, scan_program
 
 __all__ = [
     "ALARM_KINEMATIC_TYPE",

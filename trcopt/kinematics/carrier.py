@@ -1,10 +1,11 @@
 """The ``$TC_CARRn[m]`` data block of a SINUMERIK toolholder with orientation capability.
 
 This module owns the data: the :class:`Carrier` value (one data block ``m``), its construction from
-``$TC_CARRn[m]=`` assignments (:func:`carrier_from_assignments`) and from TOML carrier files
-(:func:`load_carrier_toml`), and the static checks of a block (kinematic type, undefined
-parameters, ignored vectors, open chains). The mathematics lives in :mod:`.forward` and
-:mod:`.inverse`.
+``$TC_CARRn[m]=`` assignments (:func:`carrier_from_assignments`) and back
+(:meth:`Carrier.to_assignments`), the static checks of a block (kinematic type, undefined
+parameters, ignored vectors, open chains) and the toolholder errors (:func:`holder_error`). TOML
+carrier files are :mod:`.carrier_toml`; the mathematics lives in :mod:`.forward`, :mod:`.inverse`
+and :mod:`.selection`.
 
 Index table (spec ``toolholder.md`` §2; the increment of the Hirth grid is 28/29, its offset 26/27):
 
@@ -41,24 +42,23 @@ from __future__ import annotations
 
 import enum
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.vec import Vec3
 
 __all__ = [
     "KinematicType",
     "Carrier",
     "carrier_from_assignments",
-    "carrier_from_toml_dict",
-    "load_carrier_toml",
+    "holder_error",
     "ALARM_KINEMATIC_TYPE",
     "UNDEFINED_INDICES",
+    "LAST_INDEX",
 ]
 
 
@@ -66,7 +66,8 @@ __all__ = [
 ALARM_KINEMATIC_TYPE = 14153
 #: Indices of ``$TC_CARRn`` that do not exist (reading or writing them is an error).
 UNDEFINED_INDICES = frozenset(range(47, 55)) | frozenset(range(61, 64))
-_MAX_INDEX = 65
+#: The last index of ``$TC_CARRn``.
+LAST_INDEX = 65
 _CLOSURE_TOL_MM = 1e-6
 
 
@@ -305,20 +306,21 @@ def _warn(code: str, message: str, span: SourceSpan) -> Diagnostic:
     return Diagnostic(Severity.WARNING, code, message, span)
 
 
-def _fail(code: str, message: str, span: SourceSpan | None) -> AlarmError:
+def holder_error(code: str, message: str, span: SourceSpan | None) -> AlarmError:
+    """A toolholder error (project code ``TH-*``) at ``span`` (an empty span when there is none)."""
     return AlarmError(Diagnostic(Severity.ERROR, code, message, span or SourceSpan()))
 
 
 def _real(value: object, n: int, number: int, span: SourceSpan | None) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise _fail(
+        raise holder_error(
             "TH-VALUE",
             f"$TC_CARR{n}[{number}] must be a number, got {value!r}",
             span,
         )
     x = float(value)
     if not math.isfinite(x):
-        raise _fail("TH-VALUE", f"$TC_CARR{n}[{number}] must be finite, got {value!r}", span)
+        raise holder_error("TH-VALUE", f"$TC_CARR{n}[{number}] must be finite, got {value!r}", span)
     return x
 
 
@@ -332,7 +334,7 @@ def _axis_ref(value: object) -> str | None:
 
 
 def carrier_from_assignments(
-    values: Mapping[int, float | str],
+    values: Mapping[int, object],
     number: int,
     span: SourceSpan | None = None,
     *,
@@ -365,13 +367,13 @@ def carrier_from_assignments(
         ``TH-UNDEFINED-PARAM`` for indices 47–54, 61–63 or outside 1 … 65; ``TH-VALUE`` for a value
         of the wrong type.
     """
-    kwargs: dict[str, object] = {}
+    kwargs: dict[str, Any] = {}  # Carrier field name -> its value (of that field's type)
     vectors: dict[str, list[float]] = {}
     kin = KinematicType.T
     for raw_n, value in values.items():
         n = int(raw_n)
-        if n < 1 or n > _MAX_INDEX or n in UNDEFINED_INDICES:
-            raise _fail(
+        if n < 1 or n > LAST_INDEX or n in UNDEFINED_INDICES:
+            raise holder_error(
                 "TH-UNDEFINED-PARAM",
                 f"$TC_CARR{n}[{number}] is not a defined toolholder parameter "
                 "(defined: 1-46, 55-60, 64, 65)",
@@ -407,94 +409,5 @@ def carrier_from_assignments(
         kinematic_type=kin,
         fine_offsets_enabled=fine_offsets_enabled,
         span=span,
-        **kwargs,  # type: ignore[arg-type]
+        **kwargs,
     )
-
-
-_META_KEYS = {"number", "fine_offsets_enabled"}
-
-
-def carrier_from_toml_dict(data: Mapping[str, object], file: str = "<toml>") -> Carrier:
-    """Build a carrier from the parsed contents of a carrier TOML file.
-
-    Keys are the system-variable names without ``$`` and without the block index:
-    ``TC_CARR7 = 0.0``, ``TC_CARR23 = "T"`` (case-insensitive). Two optional metadata keys:
-    ``number`` (data block number, default 1) and ``fine_offsets_enabled`` (default true).
-    Absent keys take the control's defaults.
-
-    Raises
-    ------
-    ConfigError
-        Naming the offending key: unknown keys, undefined indices (47–54, 61–63), wrong value
-        types; code ``"14153"`` for an invalid kinematic type.
-    """
-    span = SourceSpan(file=file)
-    values: dict[int, float | str] = {}
-    number = 1
-    fine = True
-    for key, value in data.items():
-        k = str(key)
-        if k == "number":
-            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-                raise ConfigError(f"{file}: key 'number' must be a non-negative integer", span)
-            number = value
-            continue
-        if k == "fine_offsets_enabled":
-            if not isinstance(value, bool):
-                raise ConfigError(f"{file}: key 'fine_offsets_enabled' must be true or false", span)
-            fine = value
-            continue
-        upper = k.upper().lstrip("$")
-        digits = upper[len("TC_CARR") :]
-        if not upper.startswith("TC_CARR") or not digits.isdigit():
-            raise ConfigError(
-                f"{file}: unknown key {k!r} (expected TC_CARR1 … TC_CARR65, 'number' or "
-                "'fine_offsets_enabled')",
-                span,
-            )
-        n = int(digits)
-        if n < 1 or n > _MAX_INDEX or n in UNDEFINED_INDICES:
-            raise ConfigError(
-                f"{file}: unknown key {k!r}: $TC_CARR{n} is not a defined toolholder parameter",
-                span,
-            )
-        if isinstance(value, dict | list):
-            raise ConfigError(f"{file}: key {k!r} must be a single value", span)
-        values[n] = value  # type: ignore[assignment]
-    try:
-        return carrier_from_assignments(values, number, span, fine_offsets_enabled=fine)
-    except AlarmError as exc:
-        d = exc.diagnostic
-        code = d.code
-        key = _key_in_message(d.message)
-        raise ConfigError(f"{file}: key {key}: {d.message}", span, code) from None
-
-
-def _key_in_message(message: str) -> str:
-    # the assignment errors name "$TC_CARRn[m]"; turn that into the TOML key "TC_CARRn"
-    start = message.find("$TC_CARR")
-    if start < 0:
-        return "?"
-    end = message.find("[", start)
-    return repr(message[start + 1 : end])
-
-
-def load_carrier_toml(path: str | Path) -> Carrier:
-    """Read a carrier TOML file (keys ``TC_CARR1 … TC_CARR65``, see
-    :func:`carrier_from_toml_dict`).
-
-    Raises
-    ------
-    ConfigError
-        File missing or unreadable, invalid TOML, unknown keys (named), invalid values; code
-        ``"14153"`` when ``TC_CARR23`` is not T/P/M.
-    """
-    p = Path(path)
-    try:
-        with p.open("rb") as fh:
-            data = tomllib.load(fh)
-    except OSError as exc:
-        raise ConfigError(f"{p}: cannot read carrier file: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
-    return carrier_from_toml_dict(data, str(p))

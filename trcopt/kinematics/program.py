@@ -41,7 +41,8 @@ from trcopt.kinematics.forward import (
     table_offset,
     tool_length_vector,
 )
-from trcopt.kinematics.inverse import OrientationWord, Selection, solve_orientation, tcoabs_angles
+from trcopt.kinematics.orientation import solve_orientation, tcoabs_angles
+from trcopt.kinematics.selection import OrientationWord, Selection
 
 __all__ = ["evaluate_toolholder", "scan_program"]
 

@@ -8,6 +8,7 @@ needs and its source span.
 from __future__ import annotations
 
 import enum
+import math
 from dataclasses import dataclass, field
 
 from trcopt.errors import Diagnostic, SourceSpan
@@ -107,6 +108,18 @@ class Move:
     sar: SarSpec | None = None
     plane_programmed: bool = True  # the block wrote at least one plane axis (R3.4, R45)
     origin: str = ""  # "approach"/"retract" for generated lead sub-moves (SAR, APPR/DEP); "" otherwise
+
+    def moves_in_plane(self, tol: float) -> bool:
+        """Whether the block travels in its working plane: every arc, and a line or rapid whose
+        plane projection is longer than ``tol`` (mm); never a block without motion."""
+        kind = self.kind
+        if kind is MoveKind.NONE:
+            return False
+        if kind is MoveKind.ARC:
+            return True
+        iu, iv, _ = self.plane.axes
+        a, b = self.start, self.end
+        return math.hypot(b[iu] - a[iu], b[iv] - a[iv]) > tol
 
 
 @dataclass(frozen=True, slots=True)

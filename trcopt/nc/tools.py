@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Any
 
 __all__ = ["ToolEdge", "ToolTable", "tool_kind"]
 
@@ -64,8 +65,9 @@ class ToolEdge:
         return self.kind not in ("drill", "grinding", "turning")
 
     @classmethod
-    def from_value(cls, value: ToolEdge | Mapping[str, object]) -> ToolEdge:
-        """Accept a ToolEdge or a mapping with keys ``type``, ``radius``, ``wear`` only."""
+    def from_value(cls, value: ToolEdge | Mapping[str, Any]) -> ToolEdge:
+        """Accept a ToolEdge or a mapping with keys ``type``, ``radius``, ``wear`` only (values as
+        ``int()`` / ``float()`` read them: numbers or numeric strings; radius and wear in mm)."""
         if isinstance(value, ToolEdge):
             return value
         if not isinstance(value, Mapping):
@@ -78,9 +80,9 @@ class ToolEdge:
                 f"unknown tool edge key {sorted(unknown)[0]!r}; valid: type, radius, wear"
             )
         return cls(
-            type=int(value.get("type", 0)),  # type: ignore[call-overload]
-            radius=float(value.get("radius", 0.0)),  # type: ignore[arg-type]
-            wear=float(value.get("wear", 0.0)),  # type: ignore[arg-type]
+            type=int(value.get("type", 0)),
+            radius=float(value.get("radius", 0.0)),
+            wear=float(value.get("wear", 0.0)),
         )
 
 

@@ -8,7 +8,8 @@ import pytest
 
 from trcopt.controllers import detect, read_program
 from trcopt.controllers.heidenhain.lexer import lex_block
-from trcopt.controllers.heidenhain.reader import HeidenhainOptions, read_heidenhain
+from trcopt.controllers.heidenhain.reader import read_heidenhain
+from trcopt.controllers.heidenhain.state import HeidenhainOptions
 from trcopt.controllers.heidenhain.tooltable import HhTool, compensation_value, tool_table_from_dict
 from trcopt.modes import Side
 from trcopt.nc.model import MoveKind

@@ -8,7 +8,8 @@ from trcopt import controllers
 from trcopt.compensation.profiles import compensate_with_profile, map_diagnostic
 from trcopt.controllers.heidenhain import appr_dep as sar
 from trcopt.controllers.heidenhain.profile import HEIDENHAIN
-from trcopt.controllers.heidenhain.reader import HeidenhainOptions, read_heidenhain
+from trcopt.controllers.heidenhain.reader import read_heidenhain
+from trcopt.controllers.heidenhain.state import HeidenhainOptions
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 
 UP = (0.0, 1.0)  # first element at PA = (0, 20) runs +Y; RL: tool side is -X

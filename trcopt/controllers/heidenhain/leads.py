@@ -1,69 +1,56 @@
 """APPR/DEP blocks of the Klartext reader: the approach and departure leads (spec §7).
 
-:class:`LeadBlocks` is mixed into :class:`~.heidenhain.HeidenhainReader`; the geometry of the
-points PS, PH, PA, PE, PN is :mod:`trcopt.controllers.heidenhain.appr_dep`.
+:class:`LeadBlocks` reads APPR LT/LN/CT/LCT (and their polar forms) and DEP LT/LN/CT/LCT: an APPR
+block waits (:class:`~.state.PendingApproach`) until the first contour element fixes the lead's
+tangent, then becomes the lead elements PS→PH→PA; a DEP block becomes PE→PN at once. The geometry
+of the points PS, PH, PA, PE, PN is :mod:`trcopt.controllers.heidenhain.appr_dep`; the contour
+elements are :mod:`trcopt.controllers.heidenhain.motion`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from trcopt.controllers.heidenhain import appr_dep as sar
 from trcopt.controllers.heidenhain.contour import Elem
 from trcopt.controllers.heidenhain.lexer import Block
+from trcopt.controllers.heidenhain.state import (
+    COMPENSATION_WORDS,
+    COORDINATE_WORDS,
+    FEED_WORDS,
+    BlockError,
+    PendingApproach,
+    ReaderState,
+)
 from trcopt.errors import SourceSpan
 from trcopt.geometry import vec
-from trcopt.geometry.vec import Vec3
 from trcopt.modes import Side
 from trcopt.nc.model import MoveKind
 
-_COMP = {"RL", "RR", "R0", "R+", "R-"}
-_FEED = {"F", "FMAX", "FAUTO"}
-_XYZ = {"X", "Y", "Z", "IX", "IY", "IZ"}
-_APPR_WORDS = _XYZ | {"PR", "PA", "IPR", "IPA", "LEN", "CCA", "R"} | _COMP | _FEED | {"M"}
+__all__ = ["LeadBlocks", "LEAD_WORDS"]
+
+#: The words of an APPR block (a DEP block: without the compensation words).
+LEAD_WORDS = (
+    COORDINATE_WORDS | {"PR", "PA", "IPR", "IPA", "LEN", "CCA", "R"} | COMPENSATION_WORDS | FEED_WORDS | {"M"}
+)
 
 
-class _Stop(Exception):
-    def __init__(
-        self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None
-    ) -> None:
-        super().__init__(message)
-        self.code, self.message, self.column, self.span = code, message, column, span
-
-
-@dataclass(slots=True)
-class _Appr:
-    kind: str
-    ps: Vec3
-    pa: Vec3
-    side: Side
-    r: float
-    words: dict[str, float]
-    feed_before: float | None
-    feed: float | None
-    feed_in_block: bool
-    span: SourceSpan
-    actions: tuple[str, ...]
-
-
-class LeadBlocks:
-    """APPR/DEP handling (uses the reader's state and helpers)."""
+class LeadBlocks(ReaderState):
+    """APPR/DEP handling on top of the reader's state and word access."""
 
     def _appr_block(self, blk: Block, span: SourceSpan) -> None:
-        words = self._words(blk, _APPR_WORDS)
+        words = self._words(blk, LEAD_WORDS)
         kind = blk.statement.split()[1]
         if self.side is not Side.OFF:
-            raise _Stop("E_SYNTAX", "APPR while radius compensation is active: program R0 first")
+            raise BlockError("E_SYNTAX", "APPR while radius compensation is active: program R0 first")
         comp = self._comp_word(words)
-        if comp not in ("RL", "RR", "R0"):
-            raise _Stop("E_SYNTAX", f"APPR {kind} needs RL, RR or R0")
+        if comp is None or comp not in ("RL", "RR", "R0"):
+            raise BlockError("E_SYNTAX", f"APPR {kind} needs RL, RR or R0")
         feed_before = None if self.last_rapid else self.feed
         feed, rapid = self._feed_of(words)
         polar = kind.startswith("P")
         target = self._polar_target(words, line=True) if polar else self._target(words)
         side = {"RL": Side.LEFT, "RR": Side.RIGHT, "R0": Side.OFF}[comp]
         if side is not Side.OFF and self.last_on_side not in (Side.OFF, side):
-            raise _Stop(
+            raise BlockError(
                 "E_TRC_SIDE_SWITCH",
                 "RL/RR changed without an R0 traversing block",
                 words[comp].column,
@@ -79,12 +66,12 @@ class LeadBlocks:
             if w.value is not None and k in ("LEN", "CCA", "R")
         }
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind.lstrip("P")]
-        for k in need:
-            if k not in vals:
-                raise _Stop("E_SYNTAX", f"APPR {kind} needs {k}")
+        for name in need:
+            if name not in vals:
+                raise BlockError("E_SYNTAX", f"APPR {kind} needs {name}")
         if kind.lstrip("P") == "LCT" and feed is None and not rapid:
-            raise _Stop("E_APPR_NO_FEED", "APPR LCT without a programmed feed rate")
-        self.appr = _Appr(
+            raise BlockError("E_APPR_NO_FEED", "APPR LCT without a programmed feed rate")
+        self.appr = PendingApproach(
             kind.lstrip("P"),
             self.pos,
             target,
@@ -121,7 +108,7 @@ class LeadBlocks:
             else:
                 lead = sar.appr_lct(ps2, pa2, t, s, a.r, v["R"] * self.unit, ref)
         except sar.LeadError as exc:
-            raise _Stop(exc.code, exc.message, span=a.span) from None
+            raise BlockError(exc.code, exc.message, span=a.span) from None
         if a.feed_before is None and a.kind != "LCT":
             self._warn(
                 "W_APPR_RAPID", "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span
@@ -169,11 +156,11 @@ class LeadBlocks:
         self.appr = None
 
     def _dep_block(self, blk: Block, span: SourceSpan) -> None:
-        words = self._words(blk, _APPR_WORDS - _COMP)
+        words = self._words(blk, LEAD_WORDS - COMPENSATION_WORDS)
         kind = blk.statement.split()[1].lstrip("P")
         last = self.elems[-1] if self.elems else None
         if last is None or vec.dist(last.end[:2], self._uvw(self.pos)[:2]) > 1e-6:
-            raise _Stop("E_SYNTAX", "DEP needs a preceding contour element")
+            raise BlockError("E_SYNTAX", "DEP needs a preceding contour element")
         side, r = self.side, last.radius
         if side is Side.OFF:
             self._warn(
@@ -190,9 +177,9 @@ class LeadBlocks:
             if w.value is not None and k in ("LEN", "CCA", "R")
         }
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind]
-        for k in need:
-            if k not in vals:
-                raise _Stop("E_SYNTAX", f"DEP {kind} needs {k}")
+        for name in need:
+            if name not in vals:
+                raise BlockError("E_SYNTAX", f"DEP {kind} needs {name}")
         pe = self._uvw(self.pos)
         pe2, t, ref = (pe[0], pe[1]), last.end_tangent(), self.opts.appr_radius
         w_end = pe[2]
@@ -248,5 +235,3 @@ class LeadBlocks:
         self.pos = self.plane.to_xyz((pn_uv[0], pn_uv[1], w_end))
         self.side = Side.OFF
         self.last_on_side = Side.OFF
-
-    # ------------------------------------------------------------------ checks and output

@@ -20,6 +20,7 @@ Tool table file (TOML, one table per tool number; keys as the TNC columns)::
 
 from __future__ import annotations
 
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -82,17 +83,17 @@ def tool_table_from_dict(
             table[number] = HhTool(
                 number,
                 str(row.get("NAME", "")),
-                float(row.get("L", 0.0)),  # type: ignore[arg-type]
-                float(row.get("R", 0.0)),  # type: ignore[arg-type]
-                float(row.get("DL", 0.0)),  # type: ignore[arg-type]
-                float(row.get("DR", 0.0)),  # type: ignore[arg-type]
+                float(row.get("L", 0.0)),
+                float(row.get("R", 0.0)),
+                float(row.get("DL", 0.0)),
+                float(row.get("DR", 0.0)),
             )
         except (TypeError, ValueError):
             raise ConfigError(f"{source}: tool.{key}: values must be numbers") from None
     return table
 
 
-def load_tool_table(path: str | Path) -> dict[int, HhTool]:
+def load_tool_table(path: str | os.PathLike[str]) -> dict[int, HhTool]:
     """Read a tool table TOML file (see the module docstring)."""
     p = Path(path)
     try:

@@ -27,6 +27,9 @@ here (LinuxCNC user manual "Cutter Compensation", and its regression suite in
 Errors stop the path with LinuxCNC's message text and the stable codes ``LCNC-*``. Segments carry
 the roles approach (entry), contour, corner (inserted arcs and corner traverses), retract (exit)
 and rapid.
+
+This module owns the rules above and LinuxCNC's queue of tool-centre moves still waiting for their
+corner; the formulas, the tolerances and the message texts are :mod:`trcopt.controllers.linuxcnc.corners`.
 """
 
 from __future__ import annotations
@@ -36,6 +39,25 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 from trcopt.config import TrcSettings
+from trcopt.controllers.linuxcnc.corners import (
+    ARC_SWEEP_SLACK,
+    HALF_PI,
+    MESSAGES,
+    TOLERANCE_CONCAVE_CORNER,
+    TWO_PI,
+    CompensationStop,
+    angle_to,
+    arc_arc_corner,
+    arc_line_corner,
+    entry_arc_center,
+    find_turn,
+    line_arc_corner,
+    line_line_corner,
+    plane_center,
+    point_at,
+    tool_inside_arc,
+    turn_of,
+)
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.primitives import Arc, Line
@@ -44,39 +66,7 @@ from trcopt.modes import Side
 from trcopt.nc.model import Move, MoveKind
 from trcopt.path import Role, Segment
 
-__all__ = [
-    "compensate_linuxcnc",
-    "TOLERANCE_CONCAVE_CORNER",
-    "MESSAGES",
-]
-
-TOLERANCE_CONCAVE_CORNER = 0.05  # rad: joins flatter than this are left untouched
-ARC_SWEEP_SLACK = 0.001  # rad: a trimmed arc may sweep this much more than programmed
-HALF_PI = 0.5 * math.pi
-TWO_PI = 2.0 * math.pi
-
-
-#: LinuxCNC's error text for each of our codes.
-MESSAGES: dict[str, str] = {
-    "LCNC-ENTRY-TOO-SHORT": "Length of cutter compensation entry move is not greater than the tool radius",
-    "LCNC-ENTRY-ARC-TOO-SHORT": "Radius of cutter compensation entry arc is not greater than the tool radius",
-    "LCNC-CONCAVE-GOUGE": "Straight feed in concave corner cannot be reached by the tool without gouging",
-    "LCNC-CONCAVE-GOUGE-TRAVERSE": "Straight traverse in concave corner cannot be reached by the tool without gouging",
-    "LCNC-CONCAVE-GOUGE-ARC": "Arc move in concave corner cannot be reached by the tool without gouging",
-    "LCNC-ARC-LINE-GOUGE": "Arc to straight motion makes a corner the compensated tool can't fit in without gouging",
-    "LCNC-ARC-ARC-GOUGE": "Arc to arc motion makes a corner the compensated tool can't fit in without gouging",
-    "LCNC-ARC-SAME-CENTER": "Arc to arc motion is invalid because the arcs have the same center",
-    "LCNC-ARC-TOO-SMALL": "Tool radius not less than arc radius with comp",
-    "LCNC-COMP-ALREADY-ON": "Cannot turn cutter radius comp on when already on",
-    "LCNC-YZ-PLANE": "Cannot use YZ plane with cutter radius comp",
-    "LCNC-ARC-AFTER-G40": "The move just after exiting cutter compensation mode must be straight, not an arc",
-}
-
-
-class _Stop(Exception):
-    def __init__(self, code: str, span: SourceSpan) -> None:
-        super().__init__(MESSAGES[code])
-        self.code, self.span = code, span
+__all__ = ["compensate_linuxcnc"]
 
 
 @dataclass(slots=True)
@@ -99,47 +89,8 @@ class _Queued:
         return self.center is not None
 
 
-def _dir(angle: float) -> Vec2:
-    return (math.cos(angle), math.sin(angle))
-
-
-def _at(p: Vec2, r: float, angle: float) -> Vec2:
-    return (p[0] + r * math.cos(angle), p[1] + r * math.sin(angle))
-
-
-def _angle(frm: Vec2, to: Vec2) -> float:
-    return math.atan2(to[1] - frm[1], to[0] - frm[0])
-
-
-def find_turn(start: Vec2, center: Vec2, turn: int, end: Vec2) -> float:
-    """Signed sweep (rad) from ``start`` to ``end`` around ``center`` with LinuxCNC's ``turn``
-    (equal start and end angles make a full circle)."""
-    if turn == 0:
-        return 0.0
-    a = _angle(center, start)
-    b = _angle(center, end)
-    if turn > 0:
-        if b <= a:
-            b += TWO_PI
-        return b - a + (turn - 1) * TWO_PI
-    if a <= b:
-        a += TWO_PI
-    return b - a + (turn + 1) * TWO_PI
-
-
-def _tool_inside_arc(side: int, turn: int) -> bool:
-    return (side > 0 and turn > 0) or (side < 0 and turn < 0)
-
-
-def _turn_of(m: Move) -> int:
-    sign = 1 if m.ccw else -1
-    return sign * (1 + int(m.turns))
-
-
 class _LinuxCncCompensator:
-    def __init__(
-        self, settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool
-    ) -> None:
+    def __init__(self, settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool) -> None:
         self.settings = settings
         self.diags = diagnostics
         self.complete = complete
@@ -169,7 +120,7 @@ class _LinuxCncCompensator:
                 if geom.length <= 1e-12:
                     return None
             else:
-                geom = Arc(c, rad, _angle(c, q.start[:2]), sweep, q.start[2], q.end[2])
+                geom = Arc(c, rad, angle_to(c, q.start[:2]), sweep, q.start[2], q.end[2])
             return Segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
         line = Line(q.start, q.end)
         if line.length <= 1e-12:
@@ -194,16 +145,12 @@ class _LinuxCncCompensator:
                 if q.prog_sweep:
                     sweep = find_turn(self.endpoint, q.center, q.turn, p)
                     if abs(sweep) > abs(q.prog_sweep) + ARC_SWEEP_SLACK:
-                        raise _Stop("LCNC-CONCAVE-GOUGE-ARC", span)
+                        raise CompensationStop("LCNC-CONCAVE-GOUGE-ARC", span)
             else:
                 new = (p[0] - self.endpoint[0], p[1] - self.endpoint[1])
                 if q.prog_dir[0] * new[0] + q.prog_dir[1] * new[1] < 0.0:
-                    code = (
-                        "LCNC-CONCAVE-GOUGE-TRAVERSE"
-                        if q.move.feed_mm_s is None
-                        else "LCNC-CONCAVE-GOUGE"
-                    )
-                    raise _Stop(code, span)
+                    code = "LCNC-CONCAVE-GOUGE-TRAVERSE" if q.move.feed_mm_s is None else "LCNC-CONCAVE-GOUGE"
+                    raise CompensationStop(code, span)
             q.end = (p[0], p[1], q.end[2])
             if k > 0:
                 q.start = (p[0], p[1], q.start[2])
@@ -219,7 +166,7 @@ class _LinuxCncCompensator:
             for m in moves:
                 yield from self._block(m)
             yield from self._flush()
-        except _Stop as stop:
+        except CompensationStop as stop:
             self.queue.clear()
             self.diags.append(Diagnostic(Severity.ERROR, stop.code, MESSAGES[stop.code], stop.span))
 
@@ -228,9 +175,9 @@ class _LinuxCncCompensator:
         want = comp.effective_side
         if want is not Side.OFF and (not self.on or comp.side_programmed):
             if self.on:
-                raise _Stop("LCNC-COMP-ALREADY-ON", m.span)
+                raise CompensationStop("LCNC-COMP-ALREADY-ON", m.span)
             if m.plane is Plane.G19:
-                raise _Stop("LCNC-YZ-PLANE", m.span)
+                raise CompensationStop("LCNC-YZ-PLANE", m.span)
             self.on, self.first = True, True
             self.side = 1 if want is Side.LEFT else -1
             self.r = comp.effective_radius
@@ -243,7 +190,7 @@ class _LinuxCncCompensator:
             self.first = False
         if self.on and m.plane is not self.plane:
             if m.plane is Plane.G19:
-                raise _Stop("LCNC-YZ-PLANE", m.span)
+                raise CompensationStop("LCNC-YZ-PLANE", m.span)
             self.plane = m.plane
         if m.kind is MoveKind.NONE:
             return
@@ -256,10 +203,7 @@ class _LinuxCncCompensator:
         if not self.on:
             yield from self._uncompensated(m, start, end)
         elif self.first:
-            if (
-                m.kind is not MoveKind.ARC
-                and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0
-            ):
+            if m.kind is not MoveKind.ARC and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0:
                 yield from self._uncompensated(m, start, end, keep_exit=True)
             elif m.kind is MoveKind.ARC:
                 self._entry_arc(m, end)
@@ -271,20 +215,18 @@ class _LinuxCncCompensator:
             yield from self._straight(m, end)
 
     # -- compensation off -------------------------------------------------------------------
-    def _uncompensated(
-        self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False
-    ) -> Iterator[Segment]:
+    def _uncompensated(self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False) -> Iterator[Segment]:
         assert self.cur is not None
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.CONTOUR
         if self.exit_pending and not keep_exit:
             if m.kind is MoveKind.ARC:
-                raise _Stop("LCNC-ARC-AFTER-G40", m.span)
+                raise CompensationStop("LCNC-ARC-AFTER-G40", m.span)
             role = Role.RETRACT
             self.exit_pending = False
         if m.kind is MoveKind.ARC:
             assert m.center is not None
             c = plane_center(m)
-            q = _Queued(self.cur, end, m, role, center=c, turn=_turn_of(m), compensated=False)
+            q = _Queued(self.cur, end, m, role, center=c, turn=turn_of(m), compensated=False)
         else:
             q = _Queued(self.cur, end, m, role, compensated=False)
         seg = self._segment(q)
@@ -298,9 +240,9 @@ class _LinuxCncCompensator:
         c = self.cur[:2]
         p = end[:2]
         if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.r:
-            raise _Stop("LCNC-ENTRY-TOO-SHORT", m.span)
-        alpha = _angle(c, p) + self.side * HALF_PI
-        e = _at(p, self.r, alpha)
+            raise CompensationStop("LCNC-ENTRY-TOO-SHORT", m.span)
+        alpha = angle_to(c, p) + self.side * HALF_PI
+        e = point_at(p, self.r, alpha)
         self.endpoint = c
         self.queue.append(_Queued(self.cur, (e[0], e[1], end[2]), m, Role.APPROACH))
         self.first = False
@@ -311,23 +253,16 @@ class _LinuxCncCompensator:
         c = self.cur[:2]
         p = end[:2]
         if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.r:
-            raise _Stop("LCNC-ENTRY-ARC-TOO-SHORT", m.span)
+            raise CompensationStop("LCNC-ENTRY-ARC-TOO-SHORT", m.span)
         center = plane_center(m)
-        turn = _turn_of(m)
-        if _tool_inside_arc(self.side, turn):
-            gamma = _angle(p, center)
+        turn = turn_of(m)
+        if tool_inside_arc(self.side, turn):
+            gamma = angle_to(p, center)
         else:
-            gamma = _angle(center, p)
-        e = _at(p, self.r, gamma)
-        # the compensated arc runs from the current point to e; its centre lies on the line from
-        # e through the programmed centre, equidistant from both ends
-        ab = _angle(e, center)
-        b_len = math.hypot(c[0] - e[0], c[1] - e[1]) / 2.0
-        a_ang = _angle(e, c) - ab
-        if abs(math.cos(a_ang)) < 1e-9:
-            raise _Stop("LCNC-ARC-TOO-SMALL", m.span)
-        c_len = b_len / math.cos(a_ang)
-        new_center = _at(e, c_len, ab)
+            gamma = angle_to(center, p)
+        e = point_at(p, self.r, gamma)
+        # the compensated arc runs from the current point to e
+        new_center = entry_arc_center(c, e, center, m.span)
         sweep = find_turn(c, new_center, turn, e)
         self.endpoint = c
         self.queue.append(
@@ -356,8 +291,8 @@ class _LinuxCncCompensator:
             self.queue.append(_Queued(self.cur, (c[0], c[1], end[2]), m, Role.CONTOUR))
             self.cur, self.prog = (c[0], c[1], end[2]), end
             return
-        theta = _angle(op, c)
-        alpha = _angle(op, p)
+        theta = angle_to(op, c)
+        alpha = angle_to(op, p)
         if side > 0:
             if theta < alpha:
                 theta += TWO_PI
@@ -368,8 +303,8 @@ class _LinuxCncCompensator:
                 alpha += TWO_PI
             beta = alpha - theta - HALF_PI
             gamma = -HALF_PI
-        e = _at(p, r, alpha + gamma)
-        mid = _at(op, r, alpha + gamma)
+        e = point_at(p, r, alpha + gamma)
+        mid = point_at(op, r, alpha + gamma)
         front = self._front()
         concave = beta < -small or beta > math.pi + small
         if not concave and beta > math.pi - small and front is not None and front.is_arc:
@@ -380,9 +315,7 @@ class _LinuxCncCompensator:
             if rapid:
                 corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER)
             else:
-                corner = _Queued(
-                    self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side
-                )
+                corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)
             seg = self._segment(corner)
             if seg is not None:
                 yield seg
@@ -390,47 +323,19 @@ class _LinuxCncCompensator:
             self.endpoint = mid
         elif concave:
             if front is None or not front.is_arc:
-                halfcorner = (beta + math.pi) / 2.0
-                retreat = r / math.tan(halfcorner) if math.tan(halfcorner) != 0.0 else 0.0
-                mid = _at(c, retreat, theta + gamma)
+                mid = line_line_corner(c, theta, beta, gamma, r)
             else:
-                mid = self._arc_line_corner(front, op, p, m.span)
+                assert front.center is not None
+                radius = math.hypot(front.end[0] - front.center[0], front.end[1] - front.center[1])
+                mid = arc_line_corner(front.center, radius, front.turn, op, p, r, side, m.span)
             yield from self._move_endpoint_and_flush(mid, m.span)
             start = (mid[0], mid[1], cz)
         else:  # near-tangent: continue from where the tool is
             yield from self._flush()
             self.endpoint = c
             start = self.cur
-        self.queue.append(
-            _Queued(
-                start, (e[0], e[1], end[2]), m, Role.CONTOUR, prog_dir=(p[0] - op[0], p[1] - op[1])
-            )
-        )
+        self.queue.append(_Queued(start, (e[0], e[1], end[2]), m, Role.CONTOUR, prog_dir=(p[0] - op[0], p[1] - op[1])))
         self.cur, self.prog = (e[0], e[1], end[2]), end
-
-    def _arc_line_corner(self, prev: _Queued, op: Vec2, p: Vec2, span: SourceSpan) -> Vec2:
-        """Inside corner from a (compensated) arc into a line: the point of the arc that is r
-        from the programmed line."""
-        assert prev.center is not None
-        r, side = self.r, self.side
-        pc = prev.center
-        oldrad = math.hypot(prev.end[0] - pc[0], prev.end[1] - pc[1])
-        base = _angle(op, p)
-        th = base + HALF_PI if prev.turn > 0 else base - HALF_PI
-        phi = _angle(op, pc)
-        inside = _tool_inside_arc(side, prev.turn)
-        oldrad_prog = oldrad + r if inside else oldrad - r
-        d = oldrad_prog * math.cos(th - phi)
-        if oldrad == 0.0:  # the previous offset arc shrank to its centre
-            raise _Stop("LCNC-ARC-LINE-GOUGE", span)
-        cos_ang = (d - r) / oldrad if inside else (d + r) / oldrad
-        if cos_ang > 1.0 or cos_ang < -1.0:
-            raise _Stop("LCNC-ARC-LINE-GOUGE", span)
-        if inside:
-            ang = (-math.acos(cos_ang) if prev.turn > 0 else math.acos(cos_ang)) + th + math.pi
-        else:
-            ang = (math.acos(cos_ang) if prev.turn > 0 else -math.acos(cos_ang)) + th + math.pi
-        return _at(pc, oldrad, ang)
 
     # -- contour: arc -----------------------------------------------------------------------
     def _arc(self, m: Move, end: Vec3) -> Iterator[Segment]:
@@ -440,69 +345,40 @@ class _LinuxCncCompensator:
         op, c, p = self.prog[:2], self.cur[:2], end[:2]
         cz = self.cur[2]
         center = plane_center(m)
-        turn = _turn_of(m)
+        turn = turn_of(m)
         arc_radius = math.hypot(center[0] - p[0], center[1] - p[1])
-        theta = _angle(op, c) + (-HALF_PI if side > 0 else HALF_PI)
-        delta = _angle(op, center)
+        theta = angle_to(op, c) + (-HALF_PI if side > 0 else HALF_PI)
+        delta = angle_to(op, center)
         alpha = delta - HALF_PI if turn > 0 else delta + HALF_PI
         beta = theta - alpha if side > 0 else alpha - theta
         if beta > 1.5 * math.pi:
             beta -= TWO_PI
         elif beta < -HALF_PI:
             beta += TWO_PI
-        inside = _tool_inside_arc(side, turn)
+        inside = tool_inside_arc(side, turn)
         if inside:
-            gamma = _angle(p, center)
+            gamma = angle_to(p, center)
             if arc_radius <= r:
-                raise _Stop("LCNC-ARC-TOO-SMALL", m.span)
+                raise CompensationStop("LCNC-ARC-TOO-SMALL", m.span)
         else:
-            gamma = _angle(center, p)
+            gamma = angle_to(center, p)
             delta += math.pi
-        e = _at(p, r, gamma)
+        e = point_at(p, r, gamma)
         prog_sweep = find_turn(op, center, turn, p)
         front = self._front()
         if beta < -small or beta > math.pi + small or (abs(beta - math.pi) < small and not inside):
             if front is None or not front.is_arc:  # line -> arc
-                cyv = arc_radius * math.sin(beta - HALF_PI)
-                if inside:
-                    dist = arc_radius - r
-                    sin_ang = (cyv + r) / dist
-                    if sin_ang > 1.0 or sin_ang < -1.0:
-                        raise _Stop("LCNC-CONCAVE-GOUGE-ARC", m.span)
-                    ang = theta + math.asin(sin_ang) if turn > 0 else theta - math.asin(sin_ang)
-                else:
-                    dist = arc_radius + r
-                    sin_ang = (cyv - r) / dist
-                    if sin_ang > 1.0 or sin_ang < -1.0:
-                        raise _Stop("LCNC-CONCAVE-GOUGE-ARC", m.span)
-                    ang = (
-                        theta + math.pi - math.asin(sin_ang)
-                        if turn > 0
-                        else theta + math.pi + math.asin(sin_ang)
-                    )
-                mid = _at(center, dist, ang)
+                mid = line_arc_corner(center, arc_radius, turn, inside, theta, beta, r, m.span)
             else:  # arc -> arc
                 assert front.center is not None
-                pc = front.center
-                oldrad = math.hypot(front.end[0] - pc[0], front.end[1] - pc[1])
-                newrad = arc_radius - r if inside else arc_radius + r
-                arc_cc = math.hypot(pc[0] - center[0], pc[1] - center[1])
-                if oldrad == 0.0 or arc_cc == 0.0:
-                    raise _Stop("LCNC-ARC-SAME-CENTER", m.span)
-                a = (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2.0 * oldrad * arc_cc)
-                if a > 1.0 or a < -1.0:
-                    raise _Stop("LCNC-ARC-ARC-GOUGE", m.span)
-                pullback = math.acos(a)
-                cc_dir = _angle(pc, center)
-                if _tool_inside_arc(side, front.turn):
-                    direction = cc_dir + pullback if turn > 0 else cc_dir - pullback
-                else:
-                    direction = cc_dir - pullback if turn > 0 else cc_dir + pullback
-                mid = _at(pc, oldrad, direction)
+                radius = math.hypot(front.end[0] - front.center[0], front.end[1] - front.center[1])
+                mid = arc_arc_corner(
+                    front.center, radius, front.turn, center, arc_radius, turn, inside, r, side, m.span
+                )
             yield from self._move_endpoint_and_flush(mid, m.span)
             start = (mid[0], mid[1], cz)
         elif beta > small:  # outside corner: an arc around the programmed corner first
-            mid = _at(op, r, delta)
+            mid = point_at(op, r, delta)
             yield from self._flush()
             corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)
             seg = self._segment(corner)
@@ -526,13 +402,6 @@ class _LinuxCncCompensator:
             )
         )
         self.cur, self.prog = (e[0], e[1], end[2]), end
-
-
-def plane_center(m: Move) -> Vec2:
-    """The arc centre of a move in its plane coordinates (u, v)."""
-    assert m.center is not None
-    c = m.plane.to_uvw(m.center)
-    return (c[0], c[1])
 
 
 def compensate_linuxcnc(
@@ -560,7 +429,5 @@ def compensate_linuxcnc(
     complete:
         False when the moves stop early (the front end raised an error).
     """
-    comp = _LinuxCncCompensator(
-        settings or TrcSettings(), diagnostics if diagnostics is not None else [], complete
-    )
+    comp = _LinuxCncCompensator(settings or TrcSettings(), diagnostics if diagnostics is not None else [], complete)
     return comp.run(moves)

@@ -425,5 +425,9 @@ def read_rs274(
 def read_ngc(text: str, options: ReadOptions) -> NcProgram:
     """The controller's reader: ``options.tool_table`` is a LinuxCNC ``.tbl`` read in
     ``options.tool_unit`` (default: ``<stem>.tbl``/``tools.tbl`` beside the program)."""
-    table = options.tool_table if options.tool_table is not None else options.tools
-    return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit.value)  # type: ignore[arg-type]
+    table: LinuxCncToolTable | str | os.PathLike[str] | None = options.tool_table
+    if table is None and options.tools is not None:
+        # preset edges are SINUMERIK tool data, not a LinuxCNC table: the program reads with an
+        # empty table (and, as any table given, none is looked up beside the program)
+        table = LinuxCncToolTable()
+    return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit.value)

@@ -233,12 +233,13 @@ def lex_line(line: str) -> LexedBlock:
         first_column = words[0].column if words else column
         return LexedBlock(fast[1] is not None, number, words, first_column, fast[4], None)
     pm = _PREFIX.match(line)
-    skip = pm.group("skip") is not None  # type: ignore[union-attr]
+    assert pm is not None  # every part of the prefix is optional: it matches every line
+    skip = pm.group("skip") is not None
     number = None
-    if pm.group("n") is not None:  # type: ignore[union-attr]
-        number = "N" + str(int(pm.group("nnum")))  # type: ignore[union-attr]
-    label = pm.group("label")  # type: ignore[union-attr]
-    pos = pm.end()  # type: ignore[union-attr]
+    if pm.group("n") is not None:
+        number = "N" + str(int(pm.group("nnum")))
+    label = pm.group("label")
+    pos = pm.end()
     first_column = pos + 1
     words = []
     try:
@@ -256,15 +257,16 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
     match = _TOKEN.match
     while pos < n:
         m = match(line, pos)
-        kind = m.lastgroup  # type: ignore[union-attr]  # "num" for address words
+        assert m is not None  # the token pattern ends in a catch-all ("bad") and a line has no newline
+        kind = m.lastgroup  # "num" for address words
         start = pos
-        pos = m.end()  # type: ignore[union-attr]
+        pos = m.end()
         if kind == "ws":
             continue
         column = start + 1
         if kind == "num":
-            name = m.group("addr").upper()  # type: ignore[union-attr]
-            num = m.group("num")  # type: ignore[union-attr]
+            name = m.group("addr").upper()
+            num = m.group("num")
             if num:
                 try:
                     value = parse_number(num) if _NUMBER.match(num) else None
@@ -282,14 +284,14 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             else:
                 words.append(Word(name, None, column, line[start:pos]))
         elif kind == "name":
-            name = m.group("name").upper()  # type: ignore[union-attr]
+            name = m.group("name").upper()
             assigned, pos, _ = _read_value(line, pos, column, name)
             words.append(Word(name, assigned, column, line[start:pos], None, True))
         elif kind == "comment":
             comment = line[start + 1 :]
             break
         elif kind == "bare":
-            text = m.group("bare")  # type: ignore[union-attr]
+            text = m.group("bare")
             if words and words[-1].value is None and words[-1].subscript is None:
                 prev = words[-1]
                 try:
@@ -302,9 +304,9 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             else:
                 raise LexError(f"number {text!r} without an address", column)
         elif kind == "kw":
-            words.append(Word(m.group("kw").upper(), None, column, line[start:pos]))  # type: ignore[union-attr]
+            words.append(Word(m.group("kw").upper(), None, column, line[start:pos]))
         elif kind == "sys":
-            name = m.group("sys").upper()  # type: ignore[union-attr]
+            name = m.group("sys").upper()
             im = _INDEX.match(line, pos)
             if im is None:
                 if pos < n and line[pos] == "[":

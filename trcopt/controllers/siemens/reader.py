@@ -12,8 +12,9 @@ from __future__ import annotations
 import gc
 import math
 
+from trcopt.controllers.siemens.block import Block
 from trcopt.controllers.siemens.lexer import LexedBlock, LexError, lex_line
-from trcopt.controllers.siemens.words import _MOTION, WORD_HANDLERS, Block, SiemensWords
+from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
 from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
 from trcopt.modes import Side
@@ -174,7 +175,7 @@ class SiemensReader(SiemensWords):
                 )
             st.feed_mm_s = b.feed * self.feed_scale / 60.0
         if b.motion is not None:
-            st.motion = _MOTION[b.motion[0]]
+            st.motion = MOTION_KINDS[b.motion[0]]
             self.arc_ccw = b.motion[0] == 3
         # end point
         pos = st.position

@@ -9,21 +9,28 @@ applicate-only sub-moves are executed at the corner point, the lead circle is th
 *programmed* circle of radius ρp = DISR + s·σ·R whose offset is the tool-centre radius DISR.
 
 Feeds follow R43/R44 and §D-10/D-10a. Alarms (spec §A.9) are appended to ``diagnostics``; an
-error stops the expansion (nothing is yielded after it).
+error stops the expansion (nothing is yielded after it). This module owns the expansion's state
+and its order of sub-movements; the moves it builds and the tangents and feeds it reads from the
+neighbouring blocks are :mod:`trcopt.controllers.siemens.sar_moves`, the lead geometry P0…P4 is
+:func:`trcopt.compensation.leads.sar_points`.
 """
 
 from __future__ import annotations
 
-import math
-import re
 from collections.abc import Iterable, Iterator
 from dataclasses import replace
 
 from trcopt.compensation.leads import SarGeometry, sar_points
 from trcopt.config import TrcSettings
+from trcopt.controllers.siemens.sar_moves import (
+    end_tangent,
+    lead_move,
+    programmed_feed,
+    same_point,
+    start_tangent,
+    sub_move,
+)
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
-from trcopt.geometry import vec
-from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec2, Vec3
 from trcopt.modes import RetractEnd, SarSegmentation
 from trcopt.nc.model import CompState, Move, MoveKind
@@ -32,7 +39,6 @@ __all__ = ["expand_sar", "PREPROCESSING_STOP"]
 
 PREPROCESSING_STOP = "SAR-PREPROCESSING-STOP"  # spec §A.9 gives no alarm number
 _STOP_WORDS = ("STOPRE",)
-_F_WORD = re.compile(r"^F=?\(?([-+]?(?:\d+\.?\d*|\.\d+)(?:E[-+]?\d+)?)\)?$", re.IGNORECASE)
 
 
 def expand_sar(
@@ -45,7 +51,7 @@ def expand_sar(
     Parameters
     ----------
     moves:
-        Canonical moves from :func:`trcopt.nc.read_program` (program order).
+        Canonical moves from :func:`trcopt.controllers.read_program` (program order).
     settings:
         Machine data: MD20202 ``wab_maxnum_dummy_blocks``, MD20204
         ``wab_clearance_tolerance_mm`` and the coincidence tolerance (mm).
@@ -108,12 +114,12 @@ class _Expander:
 
     def _note(self, m: Move) -> None:
         """Track the modal state a later SAR block needs."""
-        f = _programmed_feed(m)
+        f = programmed_feed(m)
         if f is not None:
             self.modal_feed = f
         elif m.feed_mm_s is not None:
             self.modal_feed = m.feed_mm_s
-        if self._plane_moving(m):
+        if m.moves_in_plane(self.tol):
             self.last_contour = m
             self.dummies_since_contour = 0
         elif m.kind is not MoveKind.NONE or m.actions:
@@ -129,15 +135,15 @@ class _Expander:
         if self.restart is None:
             return m
         front, actual = self.restart
-        if not _same(m.start, front, 1e-9) or m.kind is MoveKind.ARC:
+        if not same_point(m.start, front, 1e-9) or m.kind is MoveKind.ARC:
             self.restart = None
             return m
-        end = tuple(a if e == f else e for e, f, a in zip(m.end, front, actual, strict=True))
-        new_front = tuple(e for e in m.end)
-        new_actual = tuple(end)
-        differs = any(abs(f - a) > 1e-12 for f, a in zip(new_front, new_actual, strict=True))
-        self.restart = (new_front, new_actual) if differs else None  # type: ignore[assignment]
-        return replace(m, start=actual, end=end)  # type: ignore[arg-type]
+        # an axis the block writes anew (its end differs from the front end's idea) is programmed
+        (ex, ey, ez), (fx, fy, fz), (ax, ay, az) = m.end, front, actual
+        end = (ax if ex == fx else ex, ay if ey == fy else ey, az if ez == fz else ez)
+        differs = any(abs(f - a) > 1e-12 for f, a in zip(m.end, end, strict=True))
+        self.restart = (m.end, end) if differs else None
+        return replace(m, start=actual, end=end)
 
     def _points(
         self, sar: Move, p0: Vec3, p4: Vec3, t: Vec2, s: int, r: float, end_mode: RetractEnd = RetractEnd.PROGRAMMED
@@ -159,14 +165,6 @@ class _Expander:
         except AlarmError as exc:
             self.diagnostics.append(exc.diagnostic)
             raise _Stop() from None
-
-    def _plane_moving(self, m: Move) -> bool:
-        if m.kind is MoveKind.NONE:
-            return False
-        if m.kind is MoveKind.ARC:
-            return True
-        a, b = m.plane.to_uvw(m.start), m.plane.to_uvw(m.end)
-        return math.hypot(b[0] - a[0], b[1] - a[1]) > self.tol
 
     # ------------------------------------------------------------------ approach
     def _approach(self, sar: Move, it: Iterator[Move]) -> tuple[list[Move], list[Move]]:
@@ -199,7 +197,7 @@ class _Expander:
                         "approach tangent",
                         m.span,
                     )
-                if self._plane_moving(m):
+                if m.moves_in_plane(self.tol):
                     return m
                 dummies += 1
                 if dummies > limit:
@@ -210,10 +208,10 @@ class _Expander:
                     )
                 where.append(m)
 
-        p4_block = sar if self._plane_moving(sar) or sar.plane_programmed else pull(between)
+        p4_block = sar if sar.moves_in_plane(self.tol) or sar.plane_programmed else pull(between)
         tangent_block = pull(after)
         plane = sar.plane
-        t = _start_tangent(tangent_block, plane)
+        t = start_tangent(tangent_block, plane)
         if t is None:
             raise self._fail(
                 10744,
@@ -232,7 +230,7 @@ class _Expander:
             None if self.prev is None else self.prev.feed_mm_s
         )  # motion type before the SAR block
         before_kind = MoveKind.RAPID if before_feed is None else MoveKind.LINE
-        f_sar = _programmed_feed(sar)
+        f_sar = programmed_feed(sar)
         f_from = f_sar if f_sar is not None else self.modal_feed
         fad = sar.sar.fad[0] if sar.sar.fad is not None else None
         block_feed = p4_block.feed_mm_s if p4_block is not sar else None
@@ -262,19 +260,18 @@ class _Expander:
             )
         first = True
         for a, b, kind, feed in pieces:
-            if _same(a, b, self.tol):
+            if same_point(a, b, self.tol):
                 continue
             out.append(
-                Move(
+                sub_move(
+                    plane,
+                    a,
+                    b,
                     kind=kind,
-                    start=plane.to_xyz(a),
-                    end=plane.to_xyz(b),
-                    plane=plane,
                     span=sar.span,
                     comp=comp if first else sub,
-                    feed_mm_s=feed,
+                    feed=feed,
                     actions=sar.actions if first else (),
-                    plane_programmed=True,
                     origin="approach",
                 )
             )
@@ -282,7 +279,7 @@ class _Expander:
         p3_xyz = plane.to_xyz(geo.p3)
         for d in between:  # executed where the SAR block's last sub-block ends (R45)
             out.append(replace(d, kind=MoveKind.NONE, start=p3_xyz, end=p3_xyz, origin="approach"))
-        contour = self._lead_move(
+        contour = lead_move(
             geo,
             plane,
             start=geo.p3,
@@ -321,7 +318,7 @@ class _Expander:
                 sar.span,
             )
         plane = sar.plane
-        t = _end_tangent(last, plane)
+        t = end_tangent(last, plane)
         if t is None:
             raise self._fail(
                 10744, "no valid SAR direction: the last contour block has no direction", last.span
@@ -356,7 +353,7 @@ class _Expander:
             new_kind = MoveKind.RAPID if new_feed is None else MoveKind.LINE
 
         out: list[Move] = [
-            self._lead_move(
+            lead_move(
                 geo,
                 plane,
                 start=geo.p4,
@@ -374,22 +371,21 @@ class _Expander:
             pieces.append((geo.p3, geo.p2, kind, p32_feed, contour_comp))
         pieces.append((geo.p2, geo.p1, new_kind, new_feed, contour_comp))
         pieces.append((geo.p1, geo.p0, new_kind, new_feed, sar.comp))
-        kept = [p for p in pieces if not _same(p[0], p[1], self.tol)]
+        kept = [p for p in pieces if not same_point(p[0], p[1], self.tol)]
         if kept:  # the last sub-block carries the block's other content and its G40 (R46, R47)
             a, b, kind, feed, _ = kept[-1]
             kept[-1] = (a, b, kind, feed, sar.comp)
         for k, (a, b, kind, feed, comp) in enumerate(kept):
             out.append(
-                Move(
+                sub_move(
+                    plane,
+                    a,
+                    b,
                     kind=kind,
-                    start=plane.to_xyz(a),
-                    end=plane.to_xyz(b),
-                    plane=plane,
                     span=sar.span,
                     comp=comp,
-                    feed_mm_s=feed,
+                    feed=feed,
                     actions=sar.actions if k == len(kept) - 1 else (),
-                    plane_programmed=True,
                     origin="retract",
                 )
             )
@@ -410,93 +406,8 @@ class _Expander:
                 )
             )
         p0_xyz = plane.to_xyz(geo.p0)
-        if not _same(p0_xyz, sar.end, 1e-9):
+        if not same_point(p0_xyz, sar.end, 1e-9):
             self.restart = (sar.end, p0_xyz)
         for m in out:
             self._note(m)
         return out
-
-    # ------------------------------------------------------------------ helpers
-    @staticmethod
-    def _lead_move(
-        geo: SarGeometry,
-        plane: Plane,
-        *,
-        start: Vec3,
-        end: Vec3,
-        span: SourceSpan,
-        comp: CompState,
-        feed: float | None,
-        actions: tuple[str, ...],
-        origin: str,
-    ) -> Move:
-        """The lead contour between P3 and P4: a (slanted) line, or an arc / helix."""
-        if geo.center is None:
-            return Move(
-                kind=MoveKind.LINE if feed is not None else MoveKind.RAPID,
-                start=plane.to_xyz(start),
-                end=plane.to_xyz(end),
-                plane=plane,
-                span=span,
-                comp=comp,
-                feed_mm_s=feed,
-                actions=actions,
-                plane_programmed=True,
-                origin=origin,
-            )
-        return Move(
-            kind=MoveKind.ARC,
-            start=plane.to_xyz(start),
-            end=plane.to_xyz(end),
-            plane=plane,
-            span=span,
-            comp=comp,
-            feed_mm_s=feed,
-            center=plane.to_xyz((geo.center[0], geo.center[1], start[2])),
-            ccw=geo.ccw,
-            actions=actions,
-            plane_programmed=True,
-            origin=origin,
-        )
-
-
-def _same(a: Vec3, b: Vec3, tol: float) -> bool:
-    return math.dist(a, b) <= tol
-
-
-def _programmed_feed(m: Move) -> float | None:
-    """The F written in this block, mm/s (G0 blocks keep it only in ``actions``, in mm/min)."""
-    for a in m.actions:
-        match = _F_WORD.match(a.replace(" ", ""))
-        if match:
-            if m.feed_mm_s is not None:
-                return m.feed_mm_s
-            return float(match.group(1)) / 60.0
-    return None
-
-
-def _arc_tangent(m: Move, point: Vec3, plane: Plane) -> Vec2 | None:
-    assert m.center is not None
-    c = plane.to_uvw(m.center)
-    p = plane.to_uvw(point)
-    radial = (p[0] - c[0], p[1] - c[1])
-    if vec.norm(radial) <= 1e-12:
-        return None
-    tangent = vec.rot90(vec.unit(radial))
-    return tangent if m.ccw else vec.scale(tangent, -1.0)
-
-
-def _start_tangent(m: Move, plane: Plane) -> Vec2 | None:
-    """Unit plane tangent at the start of a move (projected onto the plane)."""
-    if m.kind is MoveKind.ARC and m.center is not None:
-        return _arc_tangent(m, m.start, plane)
-    a, b = plane.to_uvw(m.start), plane.to_uvw(m.end)
-    d = (b[0] - a[0], b[1] - a[1])
-    return None if vec.norm(d) <= 1e-12 else vec.unit(d)
-
-
-def _end_tangent(m: Move, plane: Plane) -> Vec2 | None:
-    """Unit plane tangent at the end of a move."""
-    if m.kind is MoveKind.ARC and m.center is not None:
-        return _arc_tangent(m, m.end, plane)
-    return _start_tangent(m, plane)

@@ -4,8 +4,9 @@
 :data:`G_HANDLERS`). Modal words (G groups, OFFN, DISC, NORM/KONT…, CDON/CDOF…) change the
 :class:`~trcopt.nc.modal.ModalState` as they are read, so they act on the whole block whatever
 their position in it; words whose effect needs a check (plane, compensation side, T/D, feed, axes,
-SAR) are collected in a :class:`Block` and applied when the block is complete
-(:mod:`trcopt.controllers.siemens.reader`). Everything trcopt does not implement is reported (warning
+SAR) are collected in a :class:`~trcopt.controllers.siemens.block.Block` and applied when the block
+is complete (:mod:`trcopt.controllers.siemens.reader`); how a word's value reads is
+:class:`~trcopt.controllers.siemens.block.WordReader`. Everything trcopt does not implement is reported (warning
 ``NC-UNSUPPORTED-WORD``) and kept in the move's actions; words that would change the geometry
 without trcopt knowing (frames, polar coordinates, splines) stop the program.
 """
@@ -14,8 +15,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from trcopt.controllers.siemens.block import Block, WordReader
 from trcopt.controllers.siemens.lexer import Expr, Word
-from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.errors import AlarmError, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
 from trcopt.modes import (
     ApproachMode,
@@ -27,14 +29,15 @@ from trcopt.modes import (
     SarSide,
     Side,
 )
-from trcopt.nc.modal import ModalState, ReadOptions, fail
+from trcopt.nc.modal import fail
 from trcopt.nc.model import MoveKind
 
-__all__ = ["Block", "SiemensWords", "WORD_HANDLERS", "G_HANDLERS"]
+__all__ = ["SiemensWords", "WORD_HANDLERS", "G_HANDLERS", "MOTION_KINDS"]
 
 _AXES = {"X": 0, "Y": 1, "Z": 2}
 _CENTRE = {"I": 0, "J": 1, "K": 2}
-_MOTION = {0: MoveKind.RAPID, 1: MoveKind.LINE, 2: MoveKind.ARC, 3: MoveKind.ARC}
+#: The motion kind of G0…G3.
+MOTION_KINDS = {0: MoveKind.RAPID, 1: MoveKind.LINE, 2: MoveKind.ARC, 3: MoveKind.ARC}
 _PLANES = {17: Plane.G17, 18: Plane.G18, 19: Plane.G19}
 _SIDES = {40: Side.OFF, 41: Side.LEFT, 42: Side.RIGHT}
 _SAR_CONTOURS = {int(c.value[1:]): c for c in SarContour}
@@ -46,45 +49,8 @@ _APPROACH = {m.value: m for m in ApproachMode}
 _COLLISION = {m.value: m for m in CollisionMode}
 _END_M = {2, 30, 17}
 _INCH = 25.4
-# words that would change the geometry behind trcopt's back: stop rather than guess
-_GEOMETRY_WORDS = {
-    "TRANS", "ATRANS", "CTRANS", "ROT", "AROT", "ROTS", "AROTS", "CROTS", "RPL", "SCALE",
-    "ASCALE", "MIRROR", "AMIRROR", "AP", "RP", "CIP", "CT", "ASPLINE", "BSPLINE", "CSPLINE",
-    "POLY",
-}  # fmt: skip
 _GEOMETRY_G = {33, 34, 35, 110, 111, 112, 331, 332}
 _TOOLHOLDER_WORDS = ("TCOABS", "TCOFR", "TCOFRZ", "TCOFRY", "TCOFRX")
-
-
-class Block:
-    """Scratch record of one block's words that are applied after the whole block is read.
-
-    Class attributes hold the defaults so that creating a record per block stays cheap.
-    """
-
-    centre_col = 0  # column of the first I/J/K/CR word (0: none)
-    cr: float | None = None
-    turn = 0
-    motion: tuple[int, int] | None = None  # (G number, column)
-    plane: tuple[Plane, int] | None = None
-    side: tuple[Side, int] | None = None
-    t: int | None = None
-    d: int | None = None
-    feed: float | None = None  # programmed F value (unit per minute)
-    feed_col = 0
-    dwell = False
-    sar: tuple[SarContour, int] | None = None
-    disr: float | None = None
-    discl: tuple[float, bool] | None = None
-    disrp: tuple[float, bool] | None = None
-    fad: tuple[float, str] | None = None
-    sar_param: Word | None = None  # first SAR parameter word (for the warning without SAR)
-    end = False
-
-    def __init__(self) -> None:
-        self.axes: list[tuple[float, bool] | None] = [None, None, None]
-        self.centre: list[tuple[float, bool] | None] = [None, None, None]
-        self.actions: list[str] = []
 
 
 def _fmt(value: float) -> str:
@@ -95,71 +61,8 @@ def _fmt(value: float) -> str:
 Handler = Callable[["SiemensWords", Word, Block, SourceSpan], None]
 
 
-class SiemensWords:
-    """Word handlers of the SINUMERIK reader (state lives in :class:`SiemensWords`)."""
-
-    options: ReadOptions
-    file: str
-    state: ModalState
-    diagnostics: list[Diagnostic]
-    carriers: dict[int, dict[int, object]]
-    toolholder_events: list[dict[str, object]]
-    absolute: bool
-    geom_scale: float
-    feed_scale: float
-
-    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
-        self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span))
-
-    def _at(self, span: SourceSpan, word: Word) -> SourceSpan:
-        return SourceSpan(span.file, span.line, word.column, span.block)
-
-    # ------------------------------------------------------------------ value helpers
-    def _number(self, word: Word, span: SourceSpan) -> float:
-        value = word.value
-        if type(value) is float:
-            return value
-        if value is None:
-            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
-        if isinstance(value, Expr):
-            raise fail(
-                "NC-UNSUPPORTED-EXPR",
-                f"expression {word.text!r} uses variables, which trcopt does not evaluate",
-                self._at(span, word),
-            )
-        raise fail("NC-SYNTAX", f"invalid value in {word.text!r}", self._at(span, word))
-
-    def _integer(self, word: Word, span: SourceSpan) -> int:
-        value = self._number(word, span)
-        if value != int(value) or value < 0:
-            raise fail(
-                "NC-SYNTAX",
-                f"{word.name} needs a whole number, got {word.text!r}",
-                self._at(span, word),
-            )
-        return int(value)
-
-    def _positional(
-        self, word: Word, span: SourceSpan, default_absolute: bool
-    ) -> tuple[float, bool]:
-        """A coordinate word: (value in mm, absolute?) honouring ``=AC(..)`` / ``=IC(..)``."""
-        value = word.value
-        if type(value) is tuple:
-            mode, inner = value
-            if mode in ("AC", "IC") and type(inner) is float:
-                return inner * self.geom_scale, mode == "AC"
-            if isinstance(inner, Expr):
-                self._number(Word(word.name, inner, word.column, word.text), span)
-            raise fail(
-                "NC-SYNTAX",
-                f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
-                self._at(span, word),
-            )
-        return self._number(word, span) * self.geom_scale, default_absolute
-
-    def _keyword(self, word: Word, span: SourceSpan) -> None:
-        if word.value is not None:
-            raise fail("NC-SYNTAX", f"{word.name} takes no value", self._at(span, word))
+class SiemensWords(WordReader):
+    """Word handlers of the SINUMERIK reader (state lives in :class:`~.block.WordReader`)."""
 
     # ------------------------------------------------------------------ word handlers
     def _g(self, word: Word, b: Block, span: SourceSpan) -> None:
@@ -388,22 +291,6 @@ class SiemensWords:
     def _block_number(self, word: Word, b: Block, span: SourceSpan) -> None:
         raise fail("NC-SYNTAX", "block number N inside a block", self._at(span, word))
 
-    def _unsupported(self, word: Word, b: Block, span: SourceSpan) -> None:
-        if word.name in _GEOMETRY_WORDS:
-            raise fail(
-                "NC-UNSUPPORTED",
-                f"{word.name} is not supported by trcopt (it would change the geometry)",
-                self._at(span, word),
-            )
-        if word.value is None and word.subscript is None and len(word.name) == 1:
-            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
-        self._warn(
-            "NC-UNSUPPORTED-WORD",
-            f"{word.text} is not supported by trcopt (ignored)",
-            self._at(span, word),
-        )
-        b.actions.append(word.text)
-
     def _system_variable(self, word: Word, b: Block, span: SourceSpan) -> None:
         name = word.name
         if name.startswith("$TC_DP") and name[6:].isdigit():
@@ -423,25 +310,9 @@ class SiemensWords:
             return
         b.actions.append(word.text)
 
-    def _index(self, word: Word, span: SourceSpan, count: int) -> tuple[int, ...]:
-        parts = (word.subscript or "").split(",")
-        try:
-            values = tuple(int(p) for p in parts)
-        except ValueError:
-            values = ()
-        if len(values) != count or min(values) < 0:
-            raise fail(
-                "NC-SYNTAX",
-                f"{word.name} needs {count} whole-number index"
-                f"{'es' if count > 1 else ''}, got [{word.subscript}]",
-                self._at(span, word),
-            )
-        return values
-
-
 def _g_table() -> dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan], None]]:
     table: dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan], None]] = {}
-    for g in _MOTION:
+    for g in MOTION_KINDS:
         table[g] = SiemensWords._g_motion
     for g in _PLANES:
         table[g] = SiemensWords._g_plane

@@ -1,0 +1,244 @@
+"""The state of the Klartext reader and how it reads a block's words.
+
+:class:`ReaderState` is the base of :class:`~trcopt.controllers.heidenhain.reader.HeidenhainReader`
+(through :class:`~.leads.LeadBlocks` and :class:`~.motion.MotionBlocks`): it holds everything the
+reader tracks between blocks (position, plane, unit, pole, feeds, compensation side, tool, the open
+RND/CHF corner and APPR block, the elements read so far) and reads the words of one block — which
+words a statement allows (:data:`ALLOWED_WORDS`), the target point of absolute, incremental and
+polar coordinates, the feed (mm/s), the compensation word and value, the M functions.
+
+A problem in a block raises :class:`BlockError` with the spec's code; the reader turns it into a
+diagnostic. Coordinates are absolute mm; the pole and the elements are in plane coordinates
+(u, v, w).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from trcopt.config import Tolerances
+from trcopt.controllers.heidenhain.contour import Elem
+from trcopt.controllers.heidenhain.lexer import Block, Word
+from trcopt.controllers.heidenhain.tooltable import HhTool, compensation_value
+from trcopt.errors import Diagnostic, Severity, SourceSpan
+from trcopt.geometry import vec
+from trcopt.geometry.plane import Plane
+from trcopt.geometry.vec import Vec3
+from trcopt.modes import Side
+
+__all__ = [
+    "BlockError",
+    "HeidenhainOptions",
+    "PendingApproach",
+    "ReaderState",
+    "number",
+    "COMPENSATION_WORDS",
+    "FEED_WORDS",
+    "COORDINATE_WORDS",
+    "ALLOWED_WORDS",
+    "AXIS_INDEX",
+]
+
+COMPENSATION_WORDS = {"RL", "RR", "R0", "R+", "R-"}
+FEED_WORDS = {"F", "FMAX", "FAUTO"}
+COORDINATE_WORDS = {"X", "Y", "Z", "IX", "IY", "IZ"}
+_POLAR_WORDS = {"PR", "IPR", "PA", "IPA"}
+_TAIL = COMPENSATION_WORDS | FEED_WORDS | {"M"}  # what every motion block may carry besides its geometry
+#: The words each statement allows (APPR/DEP: :data:`~.leads.LEAD_WORDS`).
+ALLOWED_WORDS: dict[str, set[str]] = {
+    "L": COORDINATE_WORDS | _TAIL,
+    "LP": _POLAR_WORDS | COORDINATE_WORDS | _TAIL,
+    "C": COORDINATE_WORDS | {"DR+", "DR-"} | _TAIL,
+    "CR": COORDINATE_WORDS | {"R", "DR+", "DR-"} | _TAIL,
+    "CT": COORDINATE_WORDS | _TAIL,
+    "CP": {"PA", "IPA"} | COORDINATE_WORDS | {"DR+", "DR-"} | _TAIL,
+    "CTP": _POLAR_WORDS | COORDINATE_WORDS | _TAIL,
+    "CC": COORDINATE_WORDS,
+    "RND": {"R", "F"},
+    "CHF": {"", "F"},
+    "STOP": {"M"},
+    "TOOL DEF": {"", "L", "R", "DL", "DR", "R2"},
+    "TOOL CALL": {"", "S", "F", "DL", "DR", "DR2"},
+}
+#: The coordinate index of an axis letter.
+AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
+
+
+class BlockError(Exception):
+    """A problem in the block being read: ``code`` (the spec's), ``message``, and where — a
+    column of the block, or another block's ``span`` (an APPR or RND waiting for its contour)."""
+
+    def __init__(self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None) -> None:
+        super().__init__(message)
+        self.code, self.message, self.column, self.span = code, message, column, span
+
+
+@dataclass(frozen=True, slots=True)
+class HeidenhainOptions:
+    """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9:
+    ``"contour"``, recommended default, or ``"centre"``); ``tools`` preset tool table."""
+
+    appr_radius: str = "contour"
+    tools: dict[int, HhTool] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class PendingApproach:
+    """An APPR block waiting for the contour element that fixes its lead: the lead kind (``LT``,
+    ``LN``, ``CT``, ``LCT``), start point PS and APPR point PA (mm), side and compensation value r
+    (mm), its LEN/CCA/R values, the feeds before and in the block (mm/s) and its M functions."""
+
+    kind: str
+    ps: Vec3
+    pa: Vec3
+    side: Side
+    r: float
+    words: dict[str, float]
+    feed_before: float | None
+    feed: float | None
+    feed_in_block: bool
+    span: SourceSpan
+    actions: tuple[str, ...]
+
+
+def number(word: Word) -> float:
+    """The number of an address word (the lexer gives every address word one)."""
+    assert word.value is not None
+    return word.value
+
+
+class ReaderState:
+    """What the Klartext reader tracks between blocks, and how it reads one block's words."""
+
+    def __init__(
+        self, file: str = "<program>", tolerances: Tolerances | None = None, options: HeidenhainOptions | None = None
+    ) -> None:
+        self.file = file
+        self.tol = tolerances or Tolerances()
+        self.opts = options or HeidenhainOptions()
+        self.diags: list[Diagnostic] = []
+        self.elems: list[Elem] = []
+        self.pos: Vec3 = (0.0, 0.0, 0.0)
+        self.plane = Plane.G17
+        self.unit = 1.0
+        self.pole: tuple[float, float] | None = None
+        self.last_pa: float | None = None
+        self.last_pr: float | None = None
+        self.feed: float | None = None
+        self.feed_auto: float | None = None
+        self.last_rapid = False
+        self.side = Side.OFF
+        self.last_on_side = Side.OFF  # for the R0-between-RL-and-RR rule
+        self.direction: bool | None = None  # last DR+/DR− (True = CCW)
+        self.tools = dict(self.opts.tools)
+        self.tool: HhTool | None = None
+        self.dr_call = 0.0
+        self.corner: tuple[str, float, float | None, SourceSpan] | None = None
+        self.appr: PendingApproach | None = None
+        self.blocks = 0
+        self.ended = False
+
+    def _error(self, code: str, message: str, span: SourceSpan) -> None:
+        self.diags.append(Diagnostic(Severity.ERROR, code, message, span))
+
+    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
+        self.diags.append(Diagnostic(Severity.WARNING, code, message, span))
+
+    # ------------------------------------------------------------------ words
+    def _words(self, blk: Block, allowed: set[str]) -> dict[str, Word]:
+        out: dict[str, Word] = {}
+        for w in blk.words:
+            if w.address == "?":
+                raise BlockError("E_SYNTAX", f"unknown word {w.text!r}", w.column)
+            key = w.address
+            if key not in allowed:
+                what = f"word {w.text!r}" if key else f"{w.text!r}"
+                raise BlockError("E_SYNTAX", f"{what} not allowed in a {blk.statement} block", w.column)
+            if key == "M":
+                out[f"M{int(w.value or 0)}"] = w
+                continue
+            if key in out and key:
+                raise BlockError("E_SYNTAX", f"word {key} programmed twice", w.column)
+            if key in COMPENSATION_WORDS and any(k in COMPENSATION_WORDS for k in out):
+                raise BlockError("E_SYNTAX", "more than one compensation word (RL/RR/R0/R+/R-)", w.column)
+            out[key or f"#{len(out)}"] = w
+        return out
+
+    def _target(self, words: dict[str, Word]) -> Vec3:
+        p = list(self.pos)
+        for key, w in words.items():
+            axis = key[-1] if key in COORDINATE_WORDS else None
+            if axis is None:
+                continue
+            v = number(w) * self.unit
+            i = AXIS_INDEX[axis]
+            p[i] = p[i] + v if key.startswith("I") else v
+        return (p[0], p[1], p[2])
+
+    def _polar_target(self, words: dict[str, Word], line: bool) -> Vec3:
+        if self.pole is None:
+            raise BlockError("E_NO_POLE", "polar coordinates need a pole (CC)")
+        s = self._uvw(self.pos)
+        cur_angle = math.degrees(math.atan2(s[1] - self.pole[1], s[0] - self.pole[0]))
+        cur_r = math.hypot(s[0] - self.pole[0], s[1] - self.pole[1])
+        pa = self.last_pa if self.last_pa is not None else cur_angle
+        pr = self.last_pr if self.last_pr is not None else cur_r
+        if "PA" in words:
+            pa = number(words["PA"])
+        elif "IPA" in words:
+            pa = pa + number(words["IPA"])
+        if "PR" in words:
+            pr = number(words["PR"]) * self.unit
+        elif "IPR" in words:
+            pr = pr + number(words["IPR"]) * self.unit
+        if not line:
+            pr = cur_r  # CP: radius = distance start–pole
+        self.last_pa, self.last_pr = pa, pr
+        w = self._uvw(self._target({k: v for k, v in words.items() if k in COORDINATE_WORDS}))[2]
+        e = vec.polar(self.pole, pr, math.radians(pa))
+        return self.plane.to_xyz((e[0], e[1], w))
+
+    def _feed_of(self, words: dict[str, Word]) -> tuple[float | None, bool]:
+        """Feed of this block (mm/s, None = FMAX) and whether it is a rapid; updates the modal F."""
+        if "FMAX" in words:
+            return None, True
+        if "FAUTO" in words:
+            if self.feed_auto is None:
+                raise BlockError("E_NO_FEED", "FAUTO without a feed in TOOL CALL", words["FAUTO"].column)
+            return self.feed_auto, False
+        if "F" in words:
+            f = number(words["F"]) * self.unit / 60.0
+            if self.unit != 1.0:
+                f /= 10.0  # inch programs: F in 0.1 inch/min
+            if f <= 0:
+                raise BlockError("E_SYNTAX", "feed must be > 0", words["F"].column)
+            self.feed = f
+        return self.feed, False
+
+    @staticmethod
+    def _comp_word(words: dict[str, Word]) -> str | None:
+        for k in words:
+            if k in COMPENSATION_WORDS:
+                return k
+        return None
+
+    def _radius(self, column: int | None = None) -> float:
+        """The compensation value R + DR_TAB + DR_CALL (mm) of the called tool."""
+        if self.tool is None:
+            raise BlockError("E_NO_TOOL", "radius compensation without a TOOL CALL", column)
+        r = compensation_value(self.tool.radius, self.tool.dr, self.dr_call)
+        if r < 0:
+            raise BlockError(
+                "E_TRC_NEG_RADIUS",
+                f"compensation value R + DR_TAB + DR_CALL = {r:g} mm is negative",
+                column,
+            )
+        return r
+
+    @staticmethod
+    def _actions(words: dict[str, Word]) -> tuple[str, ...]:
+        return tuple(k for k in words if k.startswith("M") and k[1:].isdigit())
+
+    def _uvw(self, p: Vec3) -> Vec3:
+        return self.plane.to_uvw(p)

@@ -1,0 +1,159 @@
+"""One SINUMERIK block's words before they act, and how a word's value reads.
+
+* :class:`Block` — the scratch record the word handlers fill with what is applied once the whole
+  block is read (plane, side, T/D, feed, axes, centre, SAR words, actions);
+* :class:`WordReader` — the base of :class:`~trcopt.controllers.siemens.words.SiemensWords`: the
+  reader state the handlers use, and the value readers (a number, a whole number, an ``=AC``/``=IC``
+  position in mm, a keyword without value, an ``[t,d]`` index), the warning of an unsupported
+  word and the stop of a word that would change the geometry behind trcopt's back.
+
+Lengths in mm (``geom_scale`` turns inch programs into mm).
+"""
+
+from __future__ import annotations
+
+from trcopt.controllers.siemens.lexer import Expr, Word
+from trcopt.errors import Diagnostic, Severity, SourceSpan
+from trcopt.geometry.plane import Plane
+from trcopt.modes import SarContour, Side
+from trcopt.nc.modal import ModalState, ReadOptions, fail
+
+__all__ = ["Block", "WordReader"]
+
+# words that would change the geometry behind trcopt's back: stop rather than guess
+_GEOMETRY_WORDS = {
+    "TRANS", "ATRANS", "CTRANS", "ROT", "AROT", "ROTS", "AROTS", "CROTS", "RPL", "SCALE",
+    "ASCALE", "MIRROR", "AMIRROR", "AP", "RP", "CIP", "CT", "ASPLINE", "BSPLINE", "CSPLINE",
+    "POLY",
+}  # fmt: skip
+
+
+class Block:
+    """Scratch record of one block's words that are applied after the whole block is read.
+
+    Class attributes hold the defaults so that creating a record per block stays cheap.
+    """
+
+    centre_col = 0  # column of the first I/J/K/CR word (0: none)
+    cr: float | None = None
+    turn = 0
+    motion: tuple[int, int] | None = None  # (G number, column)
+    plane: tuple[Plane, int] | None = None
+    side: tuple[Side, int] | None = None
+    t: int | None = None
+    d: int | None = None
+    feed: float | None = None  # programmed F value (unit per minute)
+    feed_col = 0
+    dwell = False
+    sar: tuple[SarContour, int] | None = None
+    disr: float | None = None
+    discl: tuple[float, bool] | None = None
+    disrp: tuple[float, bool] | None = None
+    fad: tuple[float, str] | None = None
+    sar_param: Word | None = None  # first SAR parameter word (for the warning without SAR)
+    end = False
+
+    def __init__(self) -> None:
+        self.axes: list[tuple[float, bool] | None] = [None, None, None]
+        self.centre: list[tuple[float, bool] | None] = [None, None, None]
+        self.actions: list[str] = []
+
+
+
+class WordReader:
+    """The base of the word handlers: the reader state they use (set by
+    :class:`~trcopt.controllers.siemens.reader.SiemensReader`) and how they read a word's value."""
+
+    options: ReadOptions
+    file: str
+    state: ModalState
+    diagnostics: list[Diagnostic]
+    carriers: dict[int, dict[int, object]]
+    toolholder_events: list[dict[str, object]]
+    absolute: bool
+    geom_scale: float
+    feed_scale: float
+
+    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
+        self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span))
+
+    def _at(self, span: SourceSpan, word: Word) -> SourceSpan:
+        return SourceSpan(span.file, span.line, word.column, span.block)
+
+    # ------------------------------------------------------------------ value helpers
+    def _number(self, word: Word, span: SourceSpan) -> float:
+        value = word.value
+        if type(value) is float:
+            return value
+        if value is None:
+            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+        if isinstance(value, Expr):
+            raise fail(
+                "NC-UNSUPPORTED-EXPR",
+                f"expression {word.text!r} uses variables, which trcopt does not evaluate",
+                self._at(span, word),
+            )
+        raise fail("NC-SYNTAX", f"invalid value in {word.text!r}", self._at(span, word))
+
+    def _integer(self, word: Word, span: SourceSpan) -> int:
+        value = self._number(word, span)
+        if value != int(value) or value < 0:
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs a whole number, got {word.text!r}",
+                self._at(span, word),
+            )
+        return int(value)
+
+    def _positional(
+        self, word: Word, span: SourceSpan, default_absolute: bool
+    ) -> tuple[float, bool]:
+        """A coordinate word: (value in mm, absolute?) honouring ``=AC(..)`` / ``=IC(..)``."""
+        value = word.value
+        if type(value) is tuple:
+            mode, inner = value
+            if mode in ("AC", "IC") and type(inner) is float:
+                return inner * self.geom_scale, mode == "AC"
+            if isinstance(inner, Expr):
+                self._number(Word(word.name, inner, word.column, word.text), span)
+            raise fail(
+                "NC-SYNTAX",
+                f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
+                self._at(span, word),
+            )
+        return self._number(word, span) * self.geom_scale, default_absolute
+
+    def _keyword(self, word: Word, span: SourceSpan) -> None:
+        if word.value is not None:
+            raise fail("NC-SYNTAX", f"{word.name} takes no value", self._at(span, word))
+
+    def _unsupported(self, word: Word, b: Block, span: SourceSpan) -> None:
+        if word.name in _GEOMETRY_WORDS:
+            raise fail(
+                "NC-UNSUPPORTED",
+                f"{word.name} is not supported by trcopt (it would change the geometry)",
+                self._at(span, word),
+            )
+        if word.value is None and word.subscript is None and len(word.name) == 1:
+            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+        self._warn(
+            "NC-UNSUPPORTED-WORD",
+            f"{word.text} is not supported by trcopt (ignored)",
+            self._at(span, word),
+        )
+        b.actions.append(word.text)
+
+    def _index(self, word: Word, span: SourceSpan, count: int) -> tuple[int, ...]:
+        parts = (word.subscript or "").split(",")
+        try:
+            values = tuple(int(p) for p in parts)
+        except ValueError:
+            values = ()
+        if len(values) != count or min(values) < 0:
+            raise fail(
+                "NC-SYNTAX",
+                f"{word.name} needs {count} whole-number index"
+                f"{'es' if count > 1 else ''}, got [{word.subscript}]",
+                self._at(span, word),
+            )
+        return values
