@@ -14,7 +14,7 @@ from trcopt.errors import Diagnostic, Severity, TrcoptError
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "diagnostics.md"
-CODE_LIKE = re.compile(r"^(?:1\d{4}|[A-Z][A-Z0-9]*(?:-[A-Z0-9]+)+|E_[A-Z_]+)$")
+CODE_LIKE = re.compile(r"^(?:1\d{4}|[A-Z][A-Z0-9]*(?:-[A-Z0-9]+)+|[EW]_[A-Z0-9_]+)$")
 NOT_CODES = {"UTF-8"}
 
 
@@ -44,9 +44,18 @@ def test_every_code_written_in_the_package_is_catalogued() -> None:
     known = {c.value for c in Code}
     strays = set()
     for path in (ROOT / "trcopt").rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) and CODE_LIKE.match(node.value):
-                if node.value not in known and node.value not in NOT_CODES:
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        # a constant given to a parameter or keyword called "code" is a code, whatever it looks like
+        as_code = {id(k.value) for k in ast.walk(tree) if isinstance(k, ast.keyword) and k.arg == "code"}
+        for args in (a for a in ast.walk(tree) if isinstance(a, ast.arguments)):
+            positional = [*args.posonlyargs, *args.args]
+            with_default = positional[len(positional) - len(args.defaults) :]
+            pairs = [*zip(with_default, args.defaults, strict=True)]
+            pairs += zip(args.kwonlyargs, args.kw_defaults, strict=True)
+            as_code |= {id(d) for a, d in pairs if a.arg == "code" and d is not None}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                if (CODE_LIKE.match(node.value) or id(node) in as_code) and node.value not in known | NOT_CODES:
                     strays.add(f"{path.relative_to(ROOT)}: {node.value}")
     assert sorted(strays) == []
 

@@ -24,11 +24,11 @@ BASE = {"units", "errors", "codes", "modes", "geometry", "solution"}
 # except the command line itself.
 ALLOWED: dict[str, set[str]] = {
     "units": set(),
-    "errors": set(),
-    "codes": {"errors"},
+    "errors": {"codes"},
+    "codes": set(),
     "modes": set(),
     "geometry": set(),
-    "solution": {"errors"},
+    "solution": {"errors", "codes"},
     "config": BASE,
     "path": BASE,
     "trajectory": BASE | {"config", "path"},

@@ -97,6 +97,11 @@ class Code(enum.StrEnum):
     HH_NO_TOOL = "HH-NO-TOOL"
     HH_TOOL_UNKNOWN = "HH-TOOL-UNKNOWN"
     HH_PARAXIAL_NOT_PARAXIAL = "HH-PARAXIAL-NOT-PARAXIAL"
+    HH_APPR_RAPID = "HH-APPR-RAPID"
+    HH_APPR_R0 = "HH-APPR-R0"
+    HH_DEP_R0 = "HH-DEP-R0"
+    HH_PGM_CALL = "HH-PGM-CALL"
+    HH_TOOL_TABLE = "HH-TOOL-TABLE"
     # --- LinuxCNC --------------------------------------------------------------------------------
     LCNC_TOOL_TABLE = "LCNC-TOOL-TABLE"
     LCNC_TOOL_NOT_FOUND = "LCNC-TOOL-NOT-FOUND"
@@ -140,6 +145,7 @@ class Code(enum.StrEnum):
     TRCOPT = "TRCOPT"
     USAGE = "USAGE"
     IO = "IO"
+    OUTPUT = "OUTPUT"
     CONFIG = "CONFIG"
     GEOMETRY = "GEOMETRY"
     GCODE = "GCODE"
@@ -209,6 +215,11 @@ MEANING: dict[Code, str] = {
     Code.HH_NO_TOOL: "radius compensation without a TOOL CALL",
     Code.HH_TOOL_UNKNOWN: "TOOL CALL of a tool that is not in the tool table",
     Code.HH_PARAXIAL_NOT_PARAXIAL: "R+/R− in a block with more than one plane coordinate",
+    Code.HH_APPR_RAPID: "warning: the APPR leg PS→PH is traversed at FMAX (the last positioning was FMAX)",
+    Code.HH_APPR_R0: "warning: APPR with R0: the lead is computed with radius 0 on side RR (iTNC 530)",
+    Code.HH_DEP_R0: "warning: DEP without radius compensation: computed with radius 0 on side RR",
+    Code.HH_PGM_CALL: "warning: PGM CALL: the called program is not executed; compensation is cancelled there",
+    Code.HH_TOOL_TABLE: "warning: the tool table beside the program could not be read and is ignored",
     Code.LCNC_TOOL_TABLE: "note: which tool table was read, in which unit",
     Code.LCNC_TOOL_NOT_FOUND: "the requested tool is not in the tool table",
     Code.LCNC_ARC_RADIUS: "an R-format arc whose radius cannot reach its end point",
@@ -246,7 +257,8 @@ MEANING: dict[Code, str] = {
     Code.SOLVER_INFEASIBLE: "an optimisation problem is infeasible (the binding constraint is named)",
     Code.TRCOPT: "an error without a more specific code",
     Code.USAGE: "a command-line or API argument is invalid (the valid options are listed)",
-    Code.IO: "a file cannot be read or written",
+    Code.IO: "a file cannot be read",
+    Code.OUTPUT: "an output file cannot be written (nothing is left half-written)",
     Code.CONFIG: "a machine, tool-table or settings file is invalid (the key is named)",
     Code.GEOMETRY: "invalid geometry (zero-length element, inconsistent arc)",
     Code.GCODE: "a G-code writer option is invalid or a segment cannot be written",

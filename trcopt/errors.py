@@ -11,6 +11,8 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
+
 __all__ = [
     "Severity",
     "SourceSpan",
@@ -59,16 +61,20 @@ class SourceSpan:
 class Diagnostic:
     """A controller alarm, warning or note tied to a source span.
 
-    ``code`` is a stable string (the alarm number for controller alarms, e.g. ``"10763"``, or a
-    trcopt code such as ``"TRC-CONTOUR-VIOLATION"``); ``alarm`` is the controller's number when
-    there is one.
+    ``code`` is a stable code of :class:`~trcopt.codes.Code` (the alarm number for controller
+    alarms, e.g. ``"10763"``, or a trcopt code such as ``"TRC-CONTOUR-VIOLATION"``; given as text it
+    is looked up, and a code that is not catalogued is rejected); ``alarm`` is the controller's
+    number when there is one.
     """
 
     severity: Severity
-    code: str
+    code: Code
     message: str
     span: SourceSpan = field(default_factory=SourceSpan)
     alarm: int | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "code", Code(self.code))
 
     def format(self) -> str:
         """Compiler-style one-liner: ``prog.mpf:6:1: warning 10763 (N60): message``."""
@@ -91,17 +97,17 @@ class Diagnostic:
 
 def alarm(number: int, message: str, span: SourceSpan, severity: Severity = Severity.ERROR) -> Diagnostic:
     """A controller alarm with its number as code."""
-    return Diagnostic(severity, str(number), message, span, number)
+    return Diagnostic(severity, Code(str(number)), message, span, number)
 
 
 class TrcoptError(Exception):
     """Root of every error trcopt raises on purpose."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "TRCOPT") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.TRCOPT) -> None:
         super().__init__(message)
         self.message = message
         self.span = span
-        self.code = code
+        self.code = Code(code)  # a code that is not catalogued is a programming error (ValueError)
 
     def __str__(self) -> str:
         if self.span is not None and self.span.line:
@@ -116,28 +122,28 @@ class TrcoptError(Exception):
 class NcSyntaxError(TrcoptError, ValueError):
     """The part program cannot be read (bad word, bad number, unbalanced brackets, truncated)."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "NC-SYNTAX") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.NC_SYNTAX) -> None:
         super().__init__(message, span, code)
 
 
 class NcUnsupportedError(TrcoptError, NotImplementedError):
     """The program uses a feature trcopt does not implement (named in the message)."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "NC-UNSUPPORTED") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.NC_UNSUPPORTED) -> None:
         super().__init__(message, span, code)
 
 
 class ConfigError(TrcoptError, ValueError):
     """A machine, tool-table or settings file is invalid (names the key)."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "CONFIG") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.CONFIG) -> None:
         super().__init__(message, span, code)
 
 
 class GeometryError(TrcoptError, ValueError):
     """Invalid geometry (zero-length element, arc whose end radius does not match, ...)."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "GEOMETRY") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.GEOMETRY) -> None:
         super().__init__(message, span, code)
 
 
@@ -155,12 +161,12 @@ class AlarmError(TrcoptError, RuntimeError):
 class SolverError(TrcoptError, RuntimeError):
     """An optimisation problem failed (infeasible, solver error); names the binding constraint."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "SOLVER") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.SOLVER) -> None:
         super().__init__(message, span, code)
 
 
 class TimingError(TrcoptError, RuntimeError):
     """Time parameterisation failed for a section (names section, s and source block)."""
 
-    def __init__(self, message: str, span: SourceSpan | None = None, code: str = "TIMING") -> None:
+    def __init__(self, message: str, span: SourceSpan | None = None, code: Code | str = Code.TIMING) -> None:
         super().__init__(message, span, code)

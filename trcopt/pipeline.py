@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from trcopt.codes import Code
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
@@ -89,7 +90,7 @@ class PlanOptions:
         try:
             object.__setattr__(self, "corners", corner_strategies.get(self.corners).name)
         except ValueError as exc:
-            raise TrcoptError(f"--corners: {exc}", code="USAGE") from None
+            raise TrcoptError(f"--corners: {exc}", code=Code.USAGE) from None
 
 
 @dataclass(slots=True)
@@ -264,7 +265,7 @@ def _controller(name: str, what: str) -> Controller:
     try:
         return controllers.get(name)
     except ValueError as exc:
-        raise TrcoptError(f"--{what}: {exc}", code="USAGE") from None
+        raise TrcoptError(f"--{what}: {exc}", code=Code.USAGE) from None
 
 
 def _has_xy_jerk(machine: Machine) -> bool:
@@ -334,7 +335,7 @@ def plan_file(path: str | Path, options: PlanOptions | None = None) -> PlanResul
     try:
         raw = p.read_bytes()
     except OSError as exc:
-        raise TrcoptError(f"cannot read {p}: {exc.strerror}", code="IO") from None
+        raise TrcoptError(f"cannot read {p}: {exc.strerror}", code=Code.IO) from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:

@@ -6,6 +6,7 @@ import enum
 from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
+from trcopt.codes import Code
 from trcopt.errors import SolverError
 
 __all__ = ["SolveStatus", "Solution", "binding_constraint"]
@@ -67,7 +68,7 @@ class Solution(Generic[G]):
         worst = self.constraint_violation.get(name, float("nan"))
         raise SolverError(
             f"{self.solver} {self.status.value} ({self.message}): binding constraint '{name}' violated by {worst:.6g}",
-            code="SOLVER-INFEASIBLE" if self.status is SolveStatus.INFEASIBLE else "SOLVER",
+            code=Code.SOLVER_INFEASIBLE if self.status is SolveStatus.INFEASIBLE else "SOLVER",
         )
 
 

@@ -108,7 +108,7 @@ def test_markers_for_located_diagnostics_and_explicit_points():
         Diagnostic(
             Severity.ERROR, "10751", "collision", SourceSpan("sq.mpf", 99, 1, "N990"), 10751
         ),
-        Diagnostic(Severity.INFO, "X", "note", SourceSpan("sq.mpf", 3, 1)),
+        Diagnostic(Severity.INFO, "LCNC-TOOL-TABLE", "note", SourceSpan("sq.mpf", 3, 1)),
     ]
     text = render_svg(programmed, toolpath, diags, markers=[(20.0, 20.0, "mine")])
     root = parse(text)

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from trcopt import controllers
+from trcopt.codes import Code
 from trcopt.modes import LeadObjective
 
 __all__ = ["add_arguments", "run_leadin", "lead_inputs_from_plan", "read_region"]
@@ -66,7 +67,7 @@ def lead_inputs_from_plan(result: Any) -> dict[str, Any]:
     tp = result.toolpath
     k = next((i for i, s in enumerate(tp) if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)), None)
     if k is None:
-        raise TrcoptError("the program has no compensated contour (G41/G42 with a tool radius)", code="USAGE")
+        raise TrcoptError("the program has no compensated contour (G41/G42 with a tool radius)", code=Code.USAGE)
     first = tp[k]
     j = k
     while j > 0 and tp[j - 1].radius > 0.0:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator
 
+from trcopt.codes import Code
 from trcopt.compensation.elements import LAM_TOL, Elem, ElemKind, Piece, make_programmed_geometry
 from trcopt.compensation.junctions import JunctionResolver
 from trcopt.compensation.lookahead import Join, Pending, Window, trim_end
@@ -119,7 +120,7 @@ class Compensator:
     def _alarm(self, number: int, message: str, span: SourceSpan) -> AlarmError:
         return AlarmError(alarm(number, message, span))
 
-    def _warn(self, code: str, message: str, span: SourceSpan, number: int | None = None) -> None:
+    def _warn(self, code: Code, message: str, span: SourceSpan, number: int | None = None) -> None:
         if number == 10763 and self.settings.suppress_10763:
             return
         self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span, number))
@@ -170,7 +171,7 @@ class Compensator:
                 raise AlarmError(
                     Diagnostic(
                         Severity.ERROR,
-                        "TRC-SIDE-CHANGE",
+                        Code.TRC_SIDE_CHANGE,
                         "compensation side changed (G41↔G42) without G40 in between; program G40 first",
                         m.span,
                     )
@@ -213,7 +214,7 @@ class Compensator:
                 if b is None:
                     if self.complete:
                         self._warn(
-                            "TRC-ACTIVE-AT-END",
+                            Code.TRC_ACTIVE_AT_END,
                             "program ends with tool radius compensation active (no G40 block)",
                             a.span,
                         )
@@ -271,7 +272,7 @@ class Compensator:
 
     def _omit_warning(self, e: Elem) -> None:
         self._warn(
-            "10763",
+            Code.ALARM_10763,
             "block omitted by collision detection: its plane path is not traversed (bottleneck)",
             e.span,
             10763,
@@ -286,7 +287,7 @@ class Compensator:
                 if self.settings.strict:
                     raise self._alarm(10751, "collision danger: offset element runs reversed", a.span)
                 self._warn(
-                    "TRC-CONTOUR-VIOLATION",
+                    Code.TRC_CONTOUR_VIOLATION,
                     "possible contour violation: the offset of this block runs against its programmed "
                     "direction (bottleneck not detected with CDOF; use CDON)",
                     a.span,

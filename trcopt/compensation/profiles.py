@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
 from trcopt.compensation.engine import compensate
 from trcopt.config import TrcSettings
 from trcopt.errors import Diagnostic, Severity
@@ -37,7 +38,7 @@ class ControllerProfile:
 
     name: str
     settings: Mapping[str, object] = field(default_factory=dict)
-    alarms: Mapping[str, tuple[str, str, Severity]] = field(default_factory=dict)
+    alarms: Mapping[str, tuple[Code, str, Severity]] = field(default_factory=dict)
 
     def engine_settings(self, base: TrcSettings | None = None) -> TrcSettings:
         """``base`` (default settings when omitted) with the profile's overrides."""

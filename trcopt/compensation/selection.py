@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+from trcopt.codes import Code
 from trcopt.compensation import corners as cn
 from trcopt.compensation.elements import Elem, Piece
 from trcopt.compensation.lookahead import Join
@@ -44,7 +45,7 @@ def approach_join(a: Elem, b: Elem, settings: TrcSettings) -> Join:
             raise AlarmError(
                 Diagnostic(
                     Severity.ERROR,
-                    "TRC-KONTT-BLOCK",
+                    Code.TRC_KONTT_BLOCK,
                     f"{mode.value} needs a G1 approach block",
                     a.span,
                 )
@@ -71,7 +72,7 @@ def retract_join(a: Elem, b: Elem, i: int, settings: TrcSettings) -> Join:
     if mode in (ApproachMode.KONTT, ApproachMode.KONTC):
         if b.move.kind is not MoveKind.LINE:
             raise AlarmError(
-                Diagnostic(Severity.ERROR, "TRC-KONTT-BLOCK", f"{mode.value} needs a G1 retraction block", b.span)
+                Diagnostic(Severity.ERROR, Code.TRC_KONTT_BLOCK, f"{mode.value} needs a G1 retraction block", b.span)
             )
         return Join(i + 1, [cn.retract_polynomial(a, b, mode is ApproachMode.KONTC)])
     if mode is ApproachMode.KONT and cn.behind(e_pt, t_pt, t_e, a.side):

@@ -10,6 +10,7 @@ import os
 import tempfile
 from pathlib import Path
 
+from trcopt.codes import Code
 from trcopt.errors import TrcoptError
 
 __all__ = ["OutputError", "write_text_atomic", "write_bytes_atomic"]
@@ -19,7 +20,7 @@ class OutputError(TrcoptError, OSError):
     """An output file could not be written; ``path`` names it."""
 
     def __init__(
-        self, message: str, path: str | os.PathLike[str] | None = None, code: str = "OUTPUT"
+        self, message: str, path: str | os.PathLike[str] | None = None, code: Code | str = Code.OUTPUT
     ) -> None:
         super().__init__(message, None, code)
         self.path = None if path is None else os.fspath(path)

@@ -13,6 +13,7 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
+from trcopt.codes import Code
 from trcopt.errors import TrcoptError
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.poly import Poly
@@ -68,7 +69,7 @@ def write_dxf(
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise TrcoptError(
             "DXF output needs ezdxf: install trcopt[dxf] (pip install 'trcopt[dxf]')",
-            code="DXF-MISSING",
+            code=Code.DXF_MISSING,
         ) from exc
 
     programmed, toolpath = list(programmed), list(toolpath)

@@ -22,6 +22,7 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+from trcopt.codes import Code
 from trcopt.errors import TrcoptError
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.poly import Poly
@@ -42,7 +43,7 @@ _CENTRE_WORDS = ("I", "J", "K")
 class GcodeError(TrcoptError, ValueError):
     """Invalid writer option or a segment that cannot be written."""
 
-    def __init__(self, message: str, code: str = "GCODE") -> None:
+    def __init__(self, message: str, code: str = Code.GCODE) -> None:
         super().__init__(message, None, code)
 
 

@@ -14,6 +14,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from trcopt.codes import Code
 from trcopt.errors import Diagnostic, Severity, TrcoptError
 from trcopt.io.atomic import write_text_atomic
 from trcopt.path import Segment
@@ -44,7 +45,7 @@ CONTRACT_KEYS = (
 class PlanJsonError(TrcoptError, ValueError):
     """The plan cannot be written as JSON (non-finite number, unserialisable value); names where."""
 
-    def __init__(self, message: str, code: str = "PLAN-JSON") -> None:
+    def __init__(self, message: str, code: str = Code.PLAN_JSON) -> None:
         super().__init__(message, None, code)
 
 

@@ -18,6 +18,8 @@ from collections.abc import Iterator, Mapping
 from importlib import resources
 from typing import Any
 
+from trcopt.codes import Code
+
 from ..errors import TrcoptError
 
 __all__ = ["SCHEMA_RESOURCE", "plan_schema", "validate_plan"]
@@ -76,12 +78,12 @@ def validate_plan(doc: Any) -> None:
         import jsonschema
     except ImportError:  # pragma: no cover - jsonschema is a test dependency
         raise TrcoptError(
-            "validating a plan needs the 'jsonschema' package (pip install jsonschema)", code="SCHEMA"
+            "validating a plan needs the 'jsonschema' package (pip install jsonschema)", code=Code.SCHEMA
         ) from None
     bad = list(_non_finite(doc, ""))
     if bad:
         raise TrcoptError(
-            f"plan JSON is invalid: non-finite number at {', '.join(bad[:_MAX_REPORTED])}", code="SCHEMA"
+            f"plan JSON is invalid: non-finite number at {', '.join(bad[:_MAX_REPORTED])}", code=Code.SCHEMA
         )
     schema = plan_schema()
     cls = jsonschema.validators.validator_for(schema)
@@ -95,4 +97,4 @@ def validate_plan(doc: Any) -> None:
     more = len(errors) - len(lines)
     if more > 0:
         lines.append(f"… and {more} more")
-    raise TrcoptError("plan JSON does not conform to trcopt.plan/1: " + "; ".join(lines), code="SCHEMA")
+    raise TrcoptError("plan JSON does not conform to trcopt.plan/1: " + "; ".join(lines), code=Code.SCHEMA)

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.vec import Vec3
 
@@ -281,9 +282,9 @@ class Carrier:
         kt = self.kinematic_type
         m = self.number
         if kt is KinematicType.T and np.any(l4 != 0.0):
-            out.append(_warn("TH-IGNORED-L4", f"toolholder {m}: l4 is ignored for type T", span))
+            out.append(_warn(Code.TH_IGNORED_L4, f"toolholder {m}: l4 is ignored for type T", span))
         if kt is KinematicType.P and np.any(l1 != 0.0):
-            out.append(_warn("TH-IGNORED-L1", f"toolholder {m}: l1 is ignored for type P", span))
+            out.append(_warn(Code.TH_IGNORED_L1, f"toolholder {m}: l1 is ignored for type P", span))
         sums = {
             KinematicType.T: [("l1+l2+l3", l1 + l2 + l3)],
             KinematicType.P: [("l2+l3+l4", l2 + l3 + l4)],
@@ -293,7 +294,7 @@ class Carrier:
             if float(np.linalg.norm(s)) > _CLOSURE_TOL_MM:
                 out.append(
                     _warn(
-                        "TH-CHAIN-OPEN",
+                        Code.TH_CHAIN_OPEN,
                         f"toolholder {m}: chain not closed ({label} = "
                         f"({s[0]:g}, {s[1]:g}, {s[2]:g}) mm); the sum acts as a constant offset",
                         span,
@@ -302,11 +303,11 @@ class Carrier:
         return out
 
 
-def _warn(code: str, message: str, span: SourceSpan) -> Diagnostic:
+def _warn(code: Code, message: str, span: SourceSpan) -> Diagnostic:
     return Diagnostic(Severity.WARNING, code, message, span)
 
 
-def holder_error(code: str, message: str, span: SourceSpan | None) -> AlarmError:
+def holder_error(code: Code, message: str, span: SourceSpan | None) -> AlarmError:
     """A toolholder error (project code ``TH-*``) at ``span`` (an empty span when there is none)."""
     return AlarmError(Diagnostic(Severity.ERROR, code, message, span or SourceSpan()))
 
@@ -314,13 +315,13 @@ def holder_error(code: str, message: str, span: SourceSpan | None) -> AlarmError
 def _real(value: object, n: int, number: int, span: SourceSpan | None) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise holder_error(
-            "TH-VALUE",
+            Code.TH_VALUE,
             f"$TC_CARR{n}[{number}] must be a number, got {value!r}",
             span,
         )
     x = float(value)
     if not math.isfinite(x):
-        raise holder_error("TH-VALUE", f"$TC_CARR{n}[{number}] must be finite, got {value!r}", span)
+        raise holder_error(Code.TH_VALUE, f"$TC_CARR{n}[{number}] must be finite, got {value!r}", span)
     return x
 
 
@@ -374,7 +375,7 @@ def carrier_from_assignments(
         n = int(raw_n)
         if n < 1 or n > LAST_INDEX or n in UNDEFINED_INDICES:
             raise holder_error(
-                "TH-UNDEFINED-PARAM",
+                Code.TH_UNDEFINED_PARAM,
                 f"$TC_CARR{n}[{number}] is not a defined toolholder parameter "
                 "(defined: 1-46, 55-60, 64, 65)",
                 span,

@@ -17,6 +17,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import SourceSpan
 from trcopt.kinematics.carrier import Carrier, holder_error
 from trcopt.kinematics.forward import rpy_matrix
@@ -135,7 +136,7 @@ def tcoabs_angles(
         if f is None:
             assert lim is not None
             raise holder_error(
-                "TH-LIMIT",
+                Code.TH_LIMIT,
                 f"toolholder {carrier.number}: axis {i + 1} angle {format_angle(ref[i])} deg is outside "
                 f"the limits [{format_angle(lim[0])}, {format_angle(lim[1])}] ($TC_CARR{30 + i}/{32 + i}) "
                 "also after +-k*360 deg",

@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.kinematics.carrier import Carrier, carrier_from_assignments
@@ -196,7 +197,7 @@ def evaluate_toolholder(
                     raise AlarmError(
                         Diagnostic(
                             Severity.ERROR,
-                            "TH-UNKNOWN-HOLDER",
+                            Code.TH_UNKNOWN_HOLDER,
                             f"toolholder {m} selected by TCARR={m} has no $TC_CARR data",
                             span,
                         )
@@ -222,7 +223,7 @@ def evaluate_toolholder(
                 diags.append(
                     Diagnostic(
                         Severity.WARNING,
-                        "TH-UNKNOWN-WORD",
+                        Code.TH_UNKNOWN_WORD,
                         f"toolholder evaluation ignores word {w!r}",
                         span,
                     )

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import SourceSpan
 from trcopt.kinematics.carrier import Carrier, holder_error
 from trcopt.kinematics.forward import relative_direction
@@ -195,7 +196,7 @@ def select_solution(
     m = carrier.number
     if not inverse.pairs:
         raise holder_error(
-            "TH-UNREACHABLE",
+            Code.TH_UNREACHABLE,
             f"toolholder {m}: orientation not reachable: {inverse.note}",
             span,
         )
@@ -269,7 +270,7 @@ def select_solution(
     tcsol = sum(f is not None for f in fitted)
     if tcsol == 0:
         raise holder_error(
-            "TH-NO-VALID-SOLUTION",
+            Code.TH_NO_VALID_SOLUTION,
             f"toolholder {m}: no solution within the software limits $TC_CARR30-33 "
             f"(solutions {', '.join(format_pair(p) for p in ordered)})",
             span,

@@ -16,6 +16,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
@@ -45,7 +46,7 @@ __all__ = [
 DEFAULT_EDGE = 1  # edge activated by a tool change without D (MD20270 CUTTING_EDGE_DEFAULT)
 
 
-def fail(code: str, message: str, span: SourceSpan, alarm: int | None = None) -> AlarmError:
+def fail(code: Code, message: str, span: SourceSpan, alarm: int | None = None) -> AlarmError:
     """An error-severity diagnostic wrapped for raising inside a block reader."""
     return AlarmError(Diagnostic(Severity.ERROR, code, message, span, alarm))
 

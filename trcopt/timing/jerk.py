@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
@@ -308,7 +309,7 @@ def jerk_limited(
 
     segments = list(toolpath)
     if not segments:
-        raise TimingError("jerk_limited: empty tool path", code="TIMING-EMPTY")
+        raise TimingError("jerk_limited: empty tool path", code=Code.TIMING_EMPTY)
     jmax = jerk_limits(machine)
     if cycle_s <= 0:
         raise ValueError("cycle_s must be positive (s)")
@@ -341,7 +342,7 @@ def jerk_limited(
                 f"{sol.message}; worst constraint group '{worst}' violated by {amount:.3g}; "
                 "remedy: check the jerk limits of the machine or pass points= for a finer grid",
                 segments[sec.first].span,
-                "TIMING-JERK-SOLVER",
+                Code.TIMING_JERK_SOLVER,
             )
         solutions.append(sol)
         knots.append(knot)

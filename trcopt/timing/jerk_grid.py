@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import TimingError
 from trcopt.geometry.poly import Poly
 from trcopt.timing.path import PathArrays, path_derivatives
@@ -223,7 +224,7 @@ def build_jerk_grid(
     hi = np.minimum(hi, ar.length[iseg])
     delta = np.diff(s)
     if np.any(delta <= 0):
-        raise TimingError(f"section {sec.index}{label}: degenerate jerk grid", code="TIMING-JERK-GRID")
+        raise TimingError(f"section {sec.index}{label}: degenerate jerk grid", code=Code.TIMING_JERK_GRID)
     # derivatives inside the interval (Poly pieces are located by bisection, so nudge inwards)
     nudge = np.where(ar.kind[iseg] == 2, 1e-6 * delta, 0.0)
     dl = path_derivatives(ar, iseg, lo + nudge)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.geometry.primitives import Arc
@@ -77,7 +78,7 @@ def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
             raise TimingError(
                 f"segment {i} has no positive feed ({f!r} mm/s); remedy: program a feed (F word)",
                 seg.span,
-                "TIMING-FEED",
+                Code.TIMING_FEED,
             )
         out[i] = f
     return out
@@ -99,7 +100,7 @@ def split_sections(
             f"{segments[i].span.block_label()}) cannot be time-parameterised; remedy: remove the "
             "block or merge it with its neighbour",
             segments[i].span,
-            "TIMING-ZERO-LENGTH",
+            Code.TIMING_ZERO_LENGTH,
         )
     brk = _breaks(segments, arrays, tangent_tol_rad)
     ends = np.append(np.nonzero(brk)[0], n - 1)

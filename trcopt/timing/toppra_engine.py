@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.timing.grid import KNOT_EPS_MM, segment_grid
@@ -111,7 +112,7 @@ def solve_section_toppra(
             "empty controllable set; remedy: check that the section is tangent-continuous and "
             "curvature-bounded, or refine the grid (smaller grid.RAMP_POINTS spacing)",
             seg.span,
-            "TIMING-TOPPRA",
+            Code.TIMING_TOPPRA,
         )
     del toppra, knots, sdd
     x = np.asarray(sd, dtype=float) ** 2

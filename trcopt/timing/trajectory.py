@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
@@ -83,7 +84,7 @@ class TimedTrajectory:
                 f"zero speed over a whole interval at s={s[i]:.6f} mm (block {seg.span.block_label()}); "
                 "remedy: check the limits of the machine and the feed of the block",
                 seg.span,
-                "TIMING-STUCK",
+                Code.TIMING_STUCK,
             )
         with np.errstate(divide="ignore", invalid="ignore"):
             dt = np.where(delta > 0, 2.0 * delta / den, 0.0)

@@ -84,7 +84,7 @@ def test_negative_compensation_value_rejected():
         "L X+0 Y+0 RL F200",
         head="0 BEGIN PGM T MM\n1 TOOL DEF 1 R+1\n2 TOOL CALL 1 Z DR-2\n",
     )
-    assert errors(read_heidenhain(text))[0][0] == "E_TRC_NEG_RADIUS"
+    assert errors(read_heidenhain(text))[0][0] == "HH-TRC-NEG-RADIUS"
 
 
 def test_tool_zero_has_radius_zero():
@@ -189,39 +189,39 @@ def test_cr_centres_of_the_four_arcs_h9():
 
 def test_ct_without_a_previous_element():
     p = read_heidenhain("0 BEGIN PGM T MM\n1 CT X+10 Y+10 F100\n2 END PGM T MM\n")
-    assert errors(p) == [("E_CT_NO_TANGENT", "1", 2)]
+    assert errors(p) == [("HH-CT-NO-TANGENT", "1", 2)]
 
 
 # --- bad input: diagnostics with line and block number --------------------------------------------
 @pytest.mark.parametrize(
     ("blocks", "code", "block"),
     [
-        (("L X+0 Y+0 R0 FMAX", "L X+10 LEN5 F100"), "E_SYNTAX", "4"),
-        (("L X+0 Y+0 R0 FMAX", "L X+10 QQ F100"), "E_SYNTAX", "4"),
-        (("L X+0 Y+0 R0 FMAX", "CC X+1 Y+1 F100"), "E_SYNTAX", "4"),
-        (("FOO X+1",), "E_SYNTAX", "3"),
-        (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L X+10 Y+10 RR"), "E_TRC_SIDE_SWITCH", "5"),
-        (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L Z+5 R0", "L X+10 Y+10 RR"), "E_SYNTAX", "5"),
-        (("L X+0 Y+0 R0 F100", "CC X+5 Y+0", "C X+10 Y+0 DR+ RL"), "E_TRC_IN_CIRCLE", "5"),
+        (("L X+0 Y+0 R0 FMAX", "L X+10 LEN5 F100"), "HH-SYNTAX", "4"),
+        (("L X+0 Y+0 R0 FMAX", "L X+10 QQ F100"), "HH-SYNTAX", "4"),
+        (("L X+0 Y+0 R0 FMAX", "CC X+1 Y+1 F100"), "HH-SYNTAX", "4"),
+        (("FOO X+1",), "HH-SYNTAX", "3"),
+        (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L X+10 Y+10 RR"), "HH-TRC-SIDE-SWITCH", "5"),
+        (("L X+0 Y+0 RL F100", "L X+10 Y+0", "L Z+5 R0", "L X+10 Y+10 RR"), "HH-SYNTAX", "5"),
+        (("L X+0 Y+0 R0 F100", "CC X+5 Y+0", "C X+10 Y+0 DR+ RL"), "HH-TRC-IN-CIRCLE", "5"),
         (
             ("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "END PGM T MM"),
-            "E_APPR_NO_CONTOUR",
+            "HH-APPR-NO-CONTOUR",
             "4",
         ),
         (
             ("L X+0 Y+0 R0 FMAX", "APPR LT X+0 Y+0 LEN10 RL F200", "L X+10 Y+0 R0"),
-            "E_TRC_SIDE_SWITCH",
+            "HH-TRC-SIDE-SWITCH",
             "5",
         ),
-        (("L X+0 Y+0 R0 FMAX", "L X+50 Y+10 R+ F100"), "E_PARAXIAL_NOT_PARAXIAL", "4"),
-        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 5"), "E_SYNTAX", "5"),
-        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 20", "L X+10 Y+10"), "E_CHF_TOO_LARGE", "6"),
+        (("L X+0 Y+0 R0 FMAX", "L X+50 Y+10 R+ F100"), "HH-PARAXIAL-NOT-PARAXIAL", "4"),
+        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 5"), "HH-SYNTAX", "5"),
+        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "CHF 20", "L X+10 Y+10"), "HH-CHF-TOO-LARGE", "6"),
         (
             ("L X+0 Y+0 R0 FMAX", "L X+10 Y+0 F100", "RND R50", "L X+10 Y+10"),
-            "E_RND_TOO_LARGE",
+            "HH-RND-TOO-LARGE",
             "6",
         ),
-        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0"), "E_NO_FEED", "4"),
+        (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0"), "HH-NO-FEED", "4"),
     ],
 )
 def test_bad_input_diagnostics(blocks, code, block):
@@ -280,7 +280,7 @@ def test_appr_with_r0_warns_and_uses_radius_zero():
     p = read_heidenhain(
         prog("L X-20 Y-20 R0 F500", "APPR LT X+0 Y+0 LEN10 R0 F200", "L X+0 Y+40", "L X+10 Y+40")
     )
-    assert not errors(p) and any(d.code == "E_APPR_R0" for d in p.diagnostics)
+    assert not errors(p) and any(d.code == "HH-APPR-R0" for d in p.diagnostics)
     assert ends(p)[1:3] == [(0, -10), (0, 0)]
 
 

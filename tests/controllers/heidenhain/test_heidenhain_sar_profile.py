@@ -81,14 +81,14 @@ def test_appr_ct_material_side_e6():
     [
         (
             lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 90.0, 4.0),
-            "E_TOOL_RADIUS_TOO_LARGE",
+            "HH-TOOL-RADIUS-TOO-LARGE",
         ),  # E5
-        (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 0.0, 10.0), "E_APPR_CCA"),
-        (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 361.0, 10.0), "E_APPR_CCA"),
-        (lambda: sar.appr_lct((-11, 21), (0, 20), UP, 1, 5.0, 10.0), "E_APPR_NO_TANGENT"),
+        (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 0.0, 10.0), "HH-APPR-CCA"),
+        (lambda: sar.appr_ct((-30, 0), (0, 20), UP, 1, 5.0, 361.0, 10.0), "HH-APPR-CCA"),
+        (lambda: sar.appr_lct((-11, 21), (0, 20), UP, 1, 5.0, 10.0), "HH-APPR-NO-TANGENT"),
         (
             lambda: sar.appr_lct((-30, 0), (0, 20), UP, 1, 9.0, 9.0),
-            "E_TOOL_RADIUS_TOO_LARGE",
+            "HH-TOOL-RADIUS-TOO-LARGE",
         ),  # H28 / R9
     ],
 )
@@ -118,7 +118,7 @@ def test_engine_alarms_read_as_tool_radius_too_large(key):
     alarm = int(key) if key.isdigit() else None
     d = Diagnostic(Severity.WARNING, key, "engine text", SourceSpan("p.h", 7, 1, "6"), alarm)
     m = map_diagnostic(HEIDENHAIN, d)
-    assert (m.severity, m.code, m.span.block) == (Severity.ERROR, "E_TOOL_RADIUS_TOO_LARGE", "6")
+    assert (m.severity, m.code, m.span.block) == (Severity.ERROR, "HH-TOOL-RADIUS-TOO-LARGE", "6")
     assert m.message.startswith("Tool radius too large")
 
 
@@ -150,5 +150,5 @@ def test_compensate_with_profile_maps_a_bottleneck_to_an_error():
     diags: list[Diagnostic] = []
     list(compensate_with_profile(p.moves, HEIDENHAIN, None, diags))
     assert (
-        diags and diags[0].code == "E_TOOL_RADIUS_TOO_LARGE" and diags[0].severity is Severity.ERROR
+        diags and diags[0].code == "HH-TOOL-RADIUS-TOO-LARGE" and diags[0].severity is Severity.ERROR
     )

@@ -82,7 +82,7 @@ def test_tool_table_d_word_and_g41_1_diameter(tmp_path) -> None:  # type: ignore
     comps = [m.comp for m in prog.moves if m.kind is MoveKind.LINE]
     assert comps[0].side is Side.LEFT and comps[0].radius == pytest.approx(3.175)  # T1, inch table
     assert comps[3].side is Side.RIGHT and comps[3].radius == pytest.approx(2.0)  # D = diameter
-    assert any(d.code == "RS274-TOOL-TABLE" and "inch" in d.message for d in prog.diagnostics)
+    assert any(d.code == "LCNC-TOOL-TABLE" and "inch" in d.message for d in prog.diagnostics)
 
 
 def _square(extra: str = "") -> str:

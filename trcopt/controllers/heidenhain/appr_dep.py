@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from trcopt.codes import Code
 from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2
 
@@ -46,7 +47,7 @@ RADIUS_REFS = ("contour", "centre")
 class LeadError(ValueError):
     """APPR/DEP geometry impossible; ``code`` is the spec's error code."""
 
-    def __init__(self, code: str, message: str) -> None:
+    def __init__(self, code: Code, message: str) -> None:
         super().__init__(message)
         self.code = code
         self.message = message
@@ -88,7 +89,7 @@ def _centre_radius(rc: float, r: float) -> float:
     rho = rc - r if rc > 0 else -rc + r
     if rc == 0.0 or (rc > 0 and rho <= 1e-9):
         raise LeadError(
-            "E_TOOL_RADIUS_TOO_LARGE",
+            Code.HH_TOOL_RADIUS_TOO_LARGE,
             f"Tool radius too large: the tool-centre arc of the approach/departure has radius "
             f"{rho:.4f} mm (R {rc:+.4f}, compensation {r:.4f})",
         )
@@ -97,7 +98,7 @@ def _centre_radius(rc: float, r: float) -> float:
 
 def _check_cca(cca: float) -> None:
     if not 0.0 < cca <= 360.0:
-        raise LeadError("E_APPR_CCA", f"centre angle CCA {cca:g} must lie in (0, 360]")
+        raise LeadError(Code.HH_APPR_CCA, f"centre angle CCA {cca:g} must lie in (0, 360]")
 
 
 def _on(m: Vec2, rho: float, p: Vec2) -> Vec2:
@@ -110,7 +111,7 @@ def _tangent_point(m: Vec2, rho: float, p: Vec2, ccw: bool, leaving: bool) -> Ve
     d = vec.dist(p, m)
     if d <= rho + 1e-9:
         raise LeadError(
-            "E_APPR_NO_TANGENT",
+            Code.HH_APPR_NO_TANGENT,
             f"point ({p[0]:.4f}, {p[1]:.4f}) lies within the tool-centre circle of radius {rho:.4f}",
         )
     phi = vec.angle_of(vec.sub(p, m))
@@ -122,7 +123,7 @@ def _tangent_point(m: Vec2, rho: float, p: Vec2, ccw: bool, leaving: bool) -> Ve
         towards = vec.sub(p, q) if leaving else vec.sub(q, p)
         if vec.dot(tan, towards) > 0.0:
             return q
-    raise LeadError("E_APPR_NO_TANGENT", "no tangent from the point to the approach circle")
+    raise LeadError(Code.HH_APPR_NO_TANGENT, "no tangent from the point to the approach circle")
 
 
 def _rot(m: Vec2, p: Vec2, angle: float) -> Vec2:
@@ -133,7 +134,7 @@ def _rot(m: Vec2, p: Vec2, angle: float) -> Vec2:
 def appr_lt(ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
     """APPR LT: PH = PA − LEN·t; tool centre PS → PH + r·n → PA + r·n."""
     if length <= 0.0:
-        raise LeadError("E_SYNTAX", f"APPR LT needs LEN > 0 (got {length:g})")
+        raise LeadError(Code.HH_SYNTAX, f"APPR LT needs LEN > 0 (got {length:g})")
     n, tu = _normal(t, side), vec.unit(t)
     ph = vec.sub(pa, vec.scale(tu, length))
     ph_c, pa_c = vec.add(ph, vec.scale(n, r)), vec.add(pa, vec.scale(n, r))
@@ -145,7 +146,7 @@ def appr_lt(ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, length: float) -> 
 def appr_ln(ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
     """APPR LN: PH_c = PA + (r + LEN)·n (spec R8); tool centre PS → PH_c → PA + r·n."""
     if length <= 0.0:
-        raise LeadError("E_SYNTAX", f"APPR LN needs LEN > 0 (got {length:g})")
+        raise LeadError(Code.HH_SYNTAX, f"APPR LN needs LEN > 0 (got {length:g})")
     n = _normal(t, side)
     ph_c, pa_c = vec.add(pa, vec.scale(n, r + length)), vec.add(pa, vec.scale(n, r))
     centre = (LeadPiece(ps, ph_c), LeadPiece(ph_c, pa_c))
@@ -186,7 +187,7 @@ def appr_lct(
     """APPR LCT: line from PS tangent to an arc of radius R (> 0) that is tangent to the first
     element at PA (centre M = PA + Rc·n, RL CCW, RR CW)."""
     if radius <= 0.0:
-        raise LeadError("E_SYNTAX", f"APPR LCT needs R > 0 (got {radius:g})")
+        raise LeadError(Code.HH_SYNTAX, f"APPR LCT needs R > 0 (got {radius:g})")
     n = _normal(t, side)
     rc = _contour_radius(radius, r, radius_ref)
     rho = _centre_radius(rc, r)
@@ -203,7 +204,7 @@ def appr_lct(
 def dep_lt(pe: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
     """DEP LT: PN = PE + r·n + LEN·t (spec R10); R0 from PN on."""
     if length <= 0.0:
-        raise LeadError("E_SYNTAX", f"DEP LT needs LEN > 0 (got {length:g})")
+        raise LeadError(Code.HH_SYNTAX, f"DEP LT needs LEN > 0 (got {length:g})")
     n, tu = _normal(t, side), vec.unit(t)
     pe_c = vec.add(pe, vec.scale(n, r))
     pn = vec.add(pe_c, vec.scale(tu, length))
@@ -213,7 +214,7 @@ def dep_lt(pe: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
 def dep_ln(pe: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
     """DEP LN: PN = PE + (r + LEN)·n (spec R8)."""
     if length <= 0.0:
-        raise LeadError("E_SYNTAX", f"DEP LN needs LEN > 0 (got {length:g})")
+        raise LeadError(Code.HH_SYNTAX, f"DEP LN needs LEN > 0 (got {length:g})")
     n = _normal(t, side)
     pe_c = vec.add(pe, vec.scale(n, r))
     pn = vec.add(pe, vec.scale(n, r + length))
@@ -245,7 +246,7 @@ def dep_lct(
     """DEP LCT: arc from PE about M = PE + Rc·n (RL CCW, RR CW) to the tangent point PH, then the
     tangent line PH → PN (R0)."""
     if radius <= 0.0:
-        raise LeadError("E_SYNTAX", f"DEP LCT needs R > 0 (got {radius:g})")
+        raise LeadError(Code.HH_SYNTAX, f"DEP LCT needs R > 0 (got {radius:g})")
     n = _normal(t, side)
     rc = _contour_radius(radius, r, radius_ref)
     rho = _centre_radius(rc, r)

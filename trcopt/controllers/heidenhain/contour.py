@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
 from trcopt.errors import SourceSpan
 from trcopt.geometry import vec
 from trcopt.geometry.intersect import intersections
@@ -41,7 +42,7 @@ _EPS = 1e-9
 
 
 class ContourError(ValueError):
-    def __init__(self, code: str, message: str) -> None:
+    def __init__(self, code: Code, message: str) -> None:
         super().__init__(message)
         self.code = code
         self.message = message
@@ -104,7 +105,7 @@ def circle_about(s: Vec3, e: Vec3, m: Vec2, tol: float) -> float:
     d = abs(vec.dist(_uv(e), m) - rho)
     if rho <= _EPS or d > tol:
         raise ContourError(
-            "E_CIRCLE_END",
+            Code.HH_CIRCLE_END,
             f"circle end position incorrect: end point is {vec.dist(_uv(e), m):.4f} mm from the centre, "
             f"start {rho:.4f} mm",
         )
@@ -118,11 +119,11 @@ def circle_by_radius(s: Vec3, e: Vec3, radius: float, ccw: bool) -> Vec2:
     c = vec.dist(a, b)
     if c <= _EPS:
         raise ContourError(
-            "E_CR_CHORD", "CR: start and end point coincide (a full circle needs two CR blocks)"
+            Code.HH_CR_CHORD, "CR: start and end point coincide (a full circle needs two CR blocks)"
         )
     if c > 2.0 * abs(radius) + 1e-9:
         raise ContourError(
-            "E_CR_CHORD", f"CR: chord {c:.4f} mm longer than the diameter {2 * abs(radius):.4f} mm"
+            Code.HH_CR_CHORD, f"CR: chord {c:.4f} mm longer than the diameter {2 * abs(radius):.4f} mm"
         )
     h = math.sqrt(max(radius * radius - c * c / 4.0, 0.0))
     mid = vec.scale(vec.add(a, b), 0.5)
@@ -139,7 +140,7 @@ def circle_tangential(s: Vec3, e: Vec3, t0: Vec2) -> tuple[Vec2, bool]:
     h = vec.dot(d, n)
     if abs(h) <= 1e-9 * max(1.0, vec.norm(d)):
         raise ContourError(
-            "E_CT_NO_TANGENT", "CT: the end point lies on the tangent of the previous element"
+            Code.HH_CT_NO_TANGENT, "CT: the end point lies on the tangent of the previous element"
         )
     rho = vec.dot(d, d) / (2.0 * h)
     return vec.add(a, vec.scale(n, rho)), rho > 0
@@ -149,12 +150,12 @@ def apply_rnd(a: Elem, b: Elem, radius: float, span: SourceSpan) -> Elem:
     """Fillet of radius R between a (ending at the corner) and b (starting there); trims both and
     returns the fillet arc (lines and arcs; the tangent points are found on offset carriers)."""
     if radius <= 0:
-        raise ContourError("E_RND_TOO_LARGE", f"RND radius must be > 0 (got {radius:g})")
+        raise ContourError(Code.HH_RND_TOO_LARGE, f"RND radius must be > 0 (got {radius:g})")
     ga, gb = a.geometry(), b.geometry()
     ta, tb = ga.end_tangent(), gb.start_tangent()
     k = vec.cross(ta, tb)
     if abs(k) <= 1e-12 and vec.dot(ta, tb) > 0:
-        raise ContourError("E_RND_TOO_LARGE", "RND at a tangential transition (no corner to round)")
+        raise ContourError(Code.HH_RND_TOO_LARGE, "RND at a tangential transition (no corner to round)")
     sgn = 1.0 if k > 0 else -1.0  # fillet centre on the inner (turning) side
     corner = _uv(a.end)
     hits = [
@@ -164,7 +165,7 @@ def apply_rnd(a: Elem, b: Elem, radius: float, span: SourceSpan) -> Elem:
     ]
     if not hits:
         raise ContourError(
-            "E_RND_TOO_LARGE", f"RND R{radius:g} does not fit between the adjacent elements"
+            Code.HH_RND_TOO_LARGE, f"RND R{radius:g} does not fit between the adjacent elements"
         )
     m = min(hits, key=lambda h: vec.dist(h.point, corner)).point
     p1 = _foot(ga, m)
@@ -184,13 +185,13 @@ def _foot(g: Line | Arc, m: Vec2) -> Vec2:
 def apply_chf(a: Elem, b: Elem, length: float, span: SourceSpan) -> Elem:
     """Chamfer with side length c on both lines: from P − c·t1 to P + c·t2; trims a and b."""
     if a.kind is MoveKind.ARC or b.kind is MoveKind.ARC:
-        raise ContourError("E_CHF_NOT_LINES", "CHF only between two straight lines")
+        raise ContourError(Code.HH_CHF_NOT_LINES, "CHF only between two straight lines")
     if length <= 0:
-        raise ContourError("E_CHF_TOO_LARGE", f"CHF length must be > 0 (got {length:g})")
+        raise ContourError(Code.HH_CHF_TOO_LARGE, f"CHF length must be > 0 (got {length:g})")
     la, lb = a.plane_length(), b.plane_length()
     if length > la + 1e-9 or length > lb + 1e-9:
         raise ContourError(
-            "E_CHF_TOO_LARGE", f"CHF {length:g} longer than an adjacent line ({min(la, lb):.4f} mm)"
+            Code.HH_CHF_TOO_LARGE, f"CHF {length:g} longer than an adjacent line ({min(la, lb):.4f} mm)"
         )
     ta, tb = a.end_tangent(), b.start_tangent()
     p = _uv(a.end)

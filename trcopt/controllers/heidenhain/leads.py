@@ -9,6 +9,7 @@ elements are :mod:`trcopt.controllers.heidenhain.motion`.
 
 from __future__ import annotations
 
+from trcopt.codes import Code
 from trcopt.controllers.heidenhain import appr_dep as sar
 from trcopt.controllers.heidenhain.contour import Elem
 from trcopt.controllers.heidenhain.lexer import Block
@@ -40,10 +41,10 @@ class LeadBlocks(ReaderState):
         words = self._words(blk, LEAD_WORDS)
         kind = blk.statement.split()[1]
         if self.side is not Side.OFF:
-            raise BlockError("E_SYNTAX", "APPR while radius compensation is active: program R0 first")
+            raise BlockError(Code.HH_SYNTAX, "APPR while radius compensation is active: program R0 first")
         comp = self._comp_word(words)
         if comp is None or comp not in ("RL", "RR", "R0"):
-            raise BlockError("E_SYNTAX", f"APPR {kind} needs RL, RR or R0")
+            raise BlockError(Code.HH_SYNTAX, f"APPR {kind} needs RL, RR or R0")
         feed_before = None if self.last_rapid else self.feed
         feed, rapid = self._feed_of(words)
         polar = kind.startswith("P")
@@ -51,14 +52,14 @@ class LeadBlocks(ReaderState):
         side = {"RL": Side.LEFT, "RR": Side.RIGHT, "R0": Side.OFF}[comp]
         if side is not Side.OFF and self.last_on_side not in (Side.OFF, side):
             raise BlockError(
-                "E_TRC_SIDE_SWITCH",
+                Code.HH_TRC_SIDE_SWITCH,
                 "RL/RR changed without an R0 traversing block",
                 words[comp].column,
             )
         r = self._radius(words[comp].column) if side is not Side.OFF else 0.0
         if side is Side.OFF:
             self._warn(
-                "E_APPR_R0", "APPR with R0: path computed with radius 0 on side RR (iTNC 530)", span
+                Code.HH_APPR_R0, "APPR with R0: path computed with radius 0 on side RR (iTNC 530)", span
             )
         vals = {
             k: float(w.value)
@@ -68,9 +69,9 @@ class LeadBlocks(ReaderState):
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind.lstrip("P")]
         for name in need:
             if name not in vals:
-                raise BlockError("E_SYNTAX", f"APPR {kind} needs {name}")
+                raise BlockError(Code.HH_SYNTAX, f"APPR {kind} needs {name}")
         if kind.lstrip("P") == "LCT" and feed is None and not rapid:
-            raise BlockError("E_APPR_NO_FEED", "APPR LCT without a programmed feed rate")
+            raise BlockError(Code.HH_APPR_NO_FEED, "APPR LCT without a programmed feed rate")
         self.appr = PendingApproach(
             kind.lstrip("P"),
             self.pos,
@@ -111,7 +112,7 @@ class LeadBlocks(ReaderState):
             raise BlockError(exc.code, exc.message, span=a.span) from None
         if a.feed_before is None and a.kind != "LCT":
             self._warn(
-                "W_APPR_RAPID", "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span
+                Code.HH_APPR_RAPID, "PS→PH is traversed at FMAX (the last positioning was FMAX)", a.span
             )
         out: list[Elem] = []
         w_ps, w_pa = ps[2], pa[2]
@@ -160,11 +161,11 @@ class LeadBlocks(ReaderState):
         kind = blk.statement.split()[1].lstrip("P")
         last = self.elems[-1] if self.elems else None
         if last is None or vec.dist(last.end[:2], self._uvw(self.pos)[:2]) > 1e-6:
-            raise BlockError("E_SYNTAX", "DEP needs a preceding contour element")
+            raise BlockError(Code.HH_SYNTAX, "DEP needs a preceding contour element")
         side, r = self.side, last.radius
         if side is Side.OFF:
             self._warn(
-                "W_DEP_R0",
+                Code.HH_DEP_R0,
                 "DEP without radius compensation: computed with radius 0 on side RR",
                 span,
             )
@@ -179,7 +180,7 @@ class LeadBlocks(ReaderState):
         need = {"LT": ("LEN",), "LN": ("LEN",), "CT": ("CCA", "R"), "LCT": ("R",)}[kind]
         for name in need:
             if name not in vals:
-                raise BlockError("E_SYNTAX", f"DEP {kind} needs {name}")
+                raise BlockError(Code.HH_SYNTAX, f"DEP {kind} needs {name}")
         pe = self._uvw(self.pos)
         pe2, t, ref = (pe[0], pe[1]), last.end_tangent(), self.opts.appr_radius
         w_end = pe[2]

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from trcopt.codes import Code
 from trcopt.controllers.heidenhain.contour import (
     ContourError,
     Elem,
@@ -60,19 +61,19 @@ class MotionBlocks(LeadBlocks):
             new = Side.LEFT if comp == "RL" else Side.RIGHT
             if self.side is Side.OFF and self.last_on_side not in (Side.OFF, new):
                 raise BlockError(
-                    "E_TRC_SIDE_SWITCH",
+                    Code.HH_TRC_SIDE_SWITCH,
                     "RL/RR changed without an R0 traversing block in the working plane",
                     words[comp].column,
                 )
             if self.side not in (Side.OFF, new):
                 raise BlockError(
-                    "E_TRC_SIDE_SWITCH",
+                    Code.HH_TRC_SIDE_SWITCH,
                     "RL↔RR changed directly: program an R0 block in between",
                     words[comp].column,
                 )
             if self.side is Side.OFF and st not in ("L", "LP"):
                 raise BlockError(
-                    "E_TRC_IN_CIRCLE",
+                    Code.HH_TRC_IN_CIRCLE,
                     "radius compensation can only be switched on in a straight-line block",
                     words[comp].column,
                 )
@@ -80,7 +81,7 @@ class MotionBlocks(LeadBlocks):
         elif comp == "R0":
             if self.side is not Side.OFF and st not in ("L", "LP"):
                 raise BlockError(
-                    "E_TRC_IN_CIRCLE",
+                    Code.HH_TRC_IN_CIRCLE,
                     "radius compensation can only be cancelled in a straight-line block",
                     words[comp].column,
                 )
@@ -89,22 +90,22 @@ class MotionBlocks(LeadBlocks):
         if comp in ("R+", "R-"):
             if self.side is not Side.OFF:
                 raise BlockError(
-                    "E_SYNTAX",
+                    Code.HH_SYNTAX,
                     "paraxial R+/R- while RL/RR is active: program R0 first",
                     words[comp].column,
                 )
             if st != "L":
-                raise BlockError("E_SYNTAX", f"paraxial {comp} only in an L block", words[comp].column)
+                raise BlockError(Code.HH_SYNTAX, f"paraxial {comp} only in an L block", words[comp].column)
             target = self._paraxial(words, comp, target)
         e_uvw = self._uvw(target)
         moving_plane = math.hypot(e_uvw[0] - s_uvw[0], e_uvw[1] - s_uvw[1]) > 1e-9
         if side is Side.OFF and self.side is not Side.OFF:
             if not moving_plane:
                 raise BlockError(
-                    "E_SYNTAX", "R0 must be programmed in a block that moves in the working plane"
+                    Code.HH_SYNTAX, "R0 must be programmed in a block that moves in the working plane"
                 )
         if not rapid and feed is None and (moving_plane or e_uvw[2] != s_uvw[2]):
-            raise BlockError("E_NO_FEED", "no feed rate programmed (F or FMAX)")
+            raise BlockError(Code.HH_NO_FEED, "no feed rate programmed (F or FMAX)")
         kind = MoveKind.RAPID if rapid else MoveKind.LINE
         elem = Elem(
             kind,
@@ -130,13 +131,13 @@ class MotionBlocks(LeadBlocks):
         if self.appr is not None:
             if not moving_plane and elem.kind is not MoveKind.ARC:
                 raise BlockError(
-                    "E_APPR_NO_CONTOUR",
+                    Code.HH_APPR_NO_CONTOUR,
                     "APPR without a following contour element (no motion in the working plane)",
                     span=self.appr.span,
                 )
             if side is not self.appr.side:
                 raise BlockError(
-                    "E_TRC_SIDE_SWITCH",
+                    Code.HH_TRC_SIDE_SWITCH,
                     "the element after APPR must keep the APPR compensation side",
                 )
             self._finish_appr(elem)
@@ -162,7 +163,7 @@ class MotionBlocks(LeadBlocks):
         plane_words = [k for k in words if k in COORDINATE_WORDS and AXIS_INDEX[k[-1]] in (u, v)]
         if len(plane_words) > 1:
             raise BlockError(
-                "E_PARAXIAL_NOT_PARAXIAL",
+                Code.HH_PARAXIAL_NOT_PARAXIAL,
                 f"{comp} needs exactly one working-plane coordinate",
                 words[comp].column,
             )
@@ -183,9 +184,9 @@ class MotionBlocks(LeadBlocks):
         elem.kind = MoveKind.ARC
         if st in ("C", "CP"):
             if self.pole is None:
-                raise BlockError("E_NO_POLE", f"{st} needs a circle centre (CC)")
+                raise BlockError(Code.HH_NO_POLE, f"{st} needs a circle centre (CC)")
             if self.direction is None:
-                raise BlockError("E_SYNTAX", f"{st} needs a direction of rotation DR+ or DR-")
+                raise BlockError(Code.HH_SYNTAX, f"{st} needs a direction of rotation DR+ or DR-")
             tol = max(self.tol.arc_end_radius_mm, 1e-6)
             circle_about(elem.start, elem.end, self.pole, tol)
             elem.center, elem.ccw = self.pole, self.direction
@@ -193,7 +194,7 @@ class MotionBlocks(LeadBlocks):
                 elem.turns = max(0, int(abs(number(words["IPA"])) // 360.0) - 1)
         elif st == "CR":
             if "R" not in words or not ("DR+" in words or "DR-" in words):
-                raise BlockError("E_SYNTAX", "CR needs R and DR+ or DR-")
+                raise BlockError(Code.HH_SYNTAX, "CR needs R and DR+ or DR-")
             elem.center = circle_by_radius(elem.start, elem.end, number(words["R"]) * self.unit, "DR+" in words)
             elem.ccw = "DR+" in words
         else:  # CT, CTP
@@ -204,7 +205,7 @@ class MotionBlocks(LeadBlocks):
                 or vec.dist(prev.end[:2], elem.start[:2]) > 1e-6
             ):
                 raise ContourError(
-                    "E_CT_NO_TANGENT", f"{st} needs a preceding element in the working plane"
+                    Code.HH_CT_NO_TANGENT, f"{st} needs a preceding element in the working plane"
                 )
             elem.center, elem.ccw = circle_tangential(elem.start, elem.end, prev.end_tangent())
 
@@ -218,15 +219,15 @@ class MotionBlocks(LeadBlocks):
             or self.corner is not None
             or self.appr is not None
         ):
-            raise BlockError("E_SYNTAX", f"a contour must not start with {blk.statement}")
+            raise BlockError(Code.HH_SYNTAX, f"a contour must not start with {blk.statement}")
         if blk.statement == "RND":
             if "R" not in words:
-                raise BlockError("E_SYNTAX", "RND needs a radius R")
+                raise BlockError(Code.HH_SYNTAX, "RND needs a radius R")
             value = number(words["R"]) * self.unit
         else:
             bare = [w for w in blk.words if w.address == ""]
             if len(bare) != 1:
-                raise BlockError("E_SYNTAX", "CHF needs one chamfer length")
+                raise BlockError(Code.HH_SYNTAX, "CHF needs one chamfer length")
             value = float(bare[0].text) * self.unit
         feed = number(words["F"]) * self.unit / 60.0 if "F" in words else None
         self.corner = (blk.statement, value, feed, span)

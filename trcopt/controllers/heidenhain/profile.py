@@ -15,7 +15,7 @@ M97                       ``CornerMode.INTERSECTION`` on the block after the M97
 inside corner             intersection (engine default)
 collision checking        ``CollisionMode.CDOF``; no block omission: a bottleneck is an error
 "Tool radius too large"   engine alarms 10751, 10758, 10763 and the CDOF contour-violation
-                          warning all mean the offset path cannot exist → ``E_TOOL_RADIUS_TOO_LARGE``
+                          warning all mean the offset path cannot exist → ``HH-TOOL-RADIUS-TOO-LARGE``
 R+ / R−                   not TRC: the front end lengthens/shortens the paraxial move itself
 APPR / DEP                lead geometry from ``appr_dep``; the front end hands the
                           engine contour-level lead arcs and tool-centre lead lines (``origin``)
@@ -29,13 +29,15 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
+from trcopt.codes import Code
 from trcopt.compensation.profiles import ControllerProfile
 from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE
 from trcopt.errors import Severity
 
 __all__ = ["HEIDENHAIN"]
 
-_TOO_LARGE = ("E_TOOL_RADIUS_TOO_LARGE", TOOL_RADIUS_TOO_LARGE, Severity.ERROR)
+_E = Severity.ERROR
+_TOO_LARGE = (Code.HH_TOOL_RADIUS_TOO_LARGE, TOOL_RADIUS_TOO_LARGE, Severity.ERROR)
 
 HEIDENHAIN = ControllerProfile(
     "heidenhain",
@@ -44,13 +46,13 @@ HEIDENHAIN = ControllerProfile(
     ),
     alarms=MappingProxyType(
         {
-            "10751": _TOO_LARGE,
-            "10758": _TOO_LARGE,
-            "10763": _TOO_LARGE,
-            "TRC-CONTOUR-VIOLATION": _TOO_LARGE,
-            "TRC-SIDE-CHANGE": ("E_TRC_SIDE_SWITCH", "RL↔RR changed without an R0 block", Severity.ERROR),
-            "10753": ("E_TRC_IN_CIRCLE", "radius compensation switched on in a circle block", Severity.ERROR),
-            "10754": ("E_TRC_IN_CIRCLE", "radius compensation switched off in a circle block", Severity.ERROR),
+            Code.ALARM_10751: _TOO_LARGE,
+            Code.ALARM_10758: _TOO_LARGE,
+            Code.ALARM_10763: _TOO_LARGE,
+            Code.TRC_CONTOUR_VIOLATION: _TOO_LARGE,
+            Code.TRC_SIDE_CHANGE: (Code.HH_TRC_SIDE_SWITCH, "RL↔RR changed without an R0 block", Severity.ERROR),
+            Code.ALARM_10753: (Code.HH_TRC_IN_CIRCLE, "radius compensation switched on in a circle block", _E),
+            Code.ALARM_10754: (Code.HH_TRC_IN_CIRCLE, "radius compensation switched off in a circle block", _E),
         }
     ),
 )

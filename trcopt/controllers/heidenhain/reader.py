@@ -22,6 +22,7 @@ the radius check and the moves).
 
 from __future__ import annotations
 
+from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.controllers.heidenhain.appr_dep import LeadError
 from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE, ContourError, Elem, radius_too_large
@@ -72,11 +73,11 @@ class HeidenhainReader(MotionBlocks):
         else:
             if self.appr is not None:
                 self._error(
-                    "E_APPR_NO_CONTOUR", "APPR without a following contour element", self.appr.span
+                    Code.HH_APPR_NO_CONTOUR, "APPR without a following contour element", self.appr.span
                 )
             elif self.corner is not None:
                 self._error(
-                    "E_SYNTAX",
+                    Code.HH_SYNTAX,
                     f"{self.corner[0]} without a following contour element",
                     self.corner[3],
                 )
@@ -92,7 +93,7 @@ class HeidenhainReader(MotionBlocks):
             table = load_tool_table(path)
         except ConfigError as exc:
             self._warn(
-                "W_TOOL_TABLE", f"tool table ignored: {exc.message}", SourceSpan(self.file, 1, 1)
+                Code.HH_TOOL_TABLE, f"tool table ignored: {exc.message}", SourceSpan(self.file, 1, 1)
             )
             return
         self.tools = {**table, **self.tools}
@@ -108,13 +109,13 @@ class HeidenhainReader(MotionBlocks):
             self.ended = True
             if self.corner is not None:
                 raise BlockError(
-                    "E_SYNTAX",
+                    Code.HH_SYNTAX,
                     f"{self.corner[0]} without a following contour element",
                     span=self.corner[3],
                 )
             if self.appr is not None:
                 raise BlockError(
-                    "E_APPR_NO_CONTOUR",
+                    Code.HH_APPR_NO_CONTOUR,
                     "APPR without a following contour element",
                     span=self.appr.span,
                 )
@@ -128,7 +129,7 @@ class HeidenhainReader(MotionBlocks):
             self._no_open_corner(st)
             self.side = self.last_on_side = Side.OFF
             self._warn(
-                "W_PGM_CALL",
+                Code.HH_PGM_CALL,
                 "PGM CALL: the called program is not executed; compensation cancelled",
                 span,
             )
@@ -156,16 +157,16 @@ class HeidenhainReader(MotionBlocks):
         if st in _MOTION:
             self._motion(blk, self._words(blk, ALLOWED_WORDS[st]), span)
             return
-        raise BlockError("E_SYNTAX", f"unknown or unsupported statement {blk.statement!r}", blk.column)
+        raise BlockError(Code.HH_SYNTAX, f"unknown or unsupported statement {blk.statement!r}", blk.column)
 
     def _no_open_corner(self, what: str) -> None:
         if self.corner is not None:
             raise BlockError(
-                "E_SYNTAX", f"{self.corner[0]} must be followed by a contour element, not {what}"
+                Code.HH_SYNTAX, f"{self.corner[0]} must be followed by a contour element, not {what}"
             )
         if self.appr is not None and not what.startswith("CC"):
             raise BlockError(
-                "E_APPR_NO_CONTOUR",
+                Code.HH_APPR_NO_CONTOUR,
                 f"APPR without a following contour element ({what} follows)",
                 span=self.appr.span,
             )
@@ -173,11 +174,11 @@ class HeidenhainReader(MotionBlocks):
     def _tool(self, blk: Block, words: dict[str, Word], span: SourceSpan) -> None:
         bare = [w for k, w in words.items() if k.startswith("#")]
         if not bare:
-            raise BlockError("E_SYNTAX", f"{blk.statement} needs a tool number or name", blk.column)
+            raise BlockError(Code.HH_SYNTAX, f"{blk.statement} needs a tool number or name", blk.column)
         ident = bare[0].text.strip("\"'")
         if blk.statement == "TOOL DEF":
             if not ident.isdigit():
-                raise BlockError("E_SYNTAX", "TOOL DEF needs a tool number", bare[0].column)
+                raise BlockError(Code.HH_SYNTAX, "TOOL DEF needs a tool number", bare[0].column)
             n = int(ident)
             val = {
                 k: float(w.value or 0.0) * self.unit
@@ -187,7 +188,7 @@ class HeidenhainReader(MotionBlocks):
             self.tools[n] = HhTool(n, "", val.get("L", 0.0), val.get("R", 0.0), 0.0, 0.0)
             return
         if len(bare) < 2 or bare[1].text.upper() not in _AXIS_PLANE:
-            raise BlockError("E_SYNTAX", "TOOL CALL needs the tool axis X, Y or Z", blk.column)
+            raise BlockError(Code.HH_SYNTAX, "TOOL CALL needs the tool axis X, Y or Z", blk.column)
         if ident.isdigit() and int(ident) == 0:
             tool = HhTool(0)
         else:
@@ -198,7 +199,7 @@ class HeidenhainReader(MotionBlocks):
             ]
             if not found:
                 raise BlockError(
-                    "E_TOOL_UNKNOWN",
+                    Code.HH_TOOL_UNKNOWN,
                     f"tool {ident} is neither defined (TOOL DEF) nor in the tool table",
                     bare[0].column,
                 )
@@ -238,7 +239,7 @@ class HeidenhainReader(MotionBlocks):
                 for d in self.diags
                 if d.severity is not Severity.ERROR or d.span.line < bad.span.line
             ]
-            self._error("E_TOOL_RADIUS_TOO_LARGE", f"{TOOL_RADIUS_TOO_LARGE}: {found[1]}", bad.span)
+            self._error(Code.HH_TOOL_RADIUS_TOO_LARGE, f"{TOOL_RADIUS_TOO_LARGE}: {found[1]}", bad.span)
             return
 
     def _moves(self) -> list[Move]:

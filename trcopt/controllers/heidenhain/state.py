@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.controllers.heidenhain.contour import Elem
 from trcopt.controllers.heidenhain.lexer import Block, Word
@@ -69,7 +70,7 @@ class BlockError(Exception):
     """A problem in the block being read: ``code`` (the spec's), ``message``, and where — a
     column of the block, or another block's ``span`` (an APPR or RND waiting for its contour)."""
 
-    def __init__(self, code: str, message: str, column: int | None = None, span: SourceSpan | None = None) -> None:
+    def __init__(self, code: Code, message: str, column: int | None = None, span: SourceSpan | None = None) -> None:
         super().__init__(message)
         self.code, self.message, self.column, self.span = code, message, column, span
 
@@ -139,10 +140,10 @@ class ReaderState:
         self.blocks = 0
         self.ended = False
 
-    def _error(self, code: str, message: str, span: SourceSpan) -> None:
+    def _error(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diags.append(Diagnostic(Severity.ERROR, code, message, span))
 
-    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
+    def _warn(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diags.append(Diagnostic(Severity.WARNING, code, message, span))
 
     # ------------------------------------------------------------------ words
@@ -150,18 +151,18 @@ class ReaderState:
         out: dict[str, Word] = {}
         for w in blk.words:
             if w.address == "?":
-                raise BlockError("E_SYNTAX", f"unknown word {w.text!r}", w.column)
+                raise BlockError(Code.HH_SYNTAX, f"unknown word {w.text!r}", w.column)
             key = w.address
             if key not in allowed:
                 what = f"word {w.text!r}" if key else f"{w.text!r}"
-                raise BlockError("E_SYNTAX", f"{what} not allowed in a {blk.statement} block", w.column)
+                raise BlockError(Code.HH_SYNTAX, f"{what} not allowed in a {blk.statement} block", w.column)
             if key == "M":
                 out[f"M{int(w.value or 0)}"] = w
                 continue
             if key in out and key:
-                raise BlockError("E_SYNTAX", f"word {key} programmed twice", w.column)
+                raise BlockError(Code.HH_SYNTAX, f"word {key} programmed twice", w.column)
             if key in COMPENSATION_WORDS and any(k in COMPENSATION_WORDS for k in out):
-                raise BlockError("E_SYNTAX", "more than one compensation word (RL/RR/R0/R+/R-)", w.column)
+                raise BlockError(Code.HH_SYNTAX, "more than one compensation word (RL/RR/R0/R+/R-)", w.column)
             out[key or f"#{len(out)}"] = w
         return out
 
@@ -178,7 +179,7 @@ class ReaderState:
 
     def _polar_target(self, words: dict[str, Word], line: bool) -> Vec3:
         if self.pole is None:
-            raise BlockError("E_NO_POLE", "polar coordinates need a pole (CC)")
+            raise BlockError(Code.HH_NO_POLE, "polar coordinates need a pole (CC)")
         s = self._uvw(self.pos)
         cur_angle = math.degrees(math.atan2(s[1] - self.pole[1], s[0] - self.pole[0]))
         cur_r = math.hypot(s[0] - self.pole[0], s[1] - self.pole[1])
@@ -205,14 +206,14 @@ class ReaderState:
             return None, True
         if "FAUTO" in words:
             if self.feed_auto is None:
-                raise BlockError("E_NO_FEED", "FAUTO without a feed in TOOL CALL", words["FAUTO"].column)
+                raise BlockError(Code.HH_NO_FEED, "FAUTO without a feed in TOOL CALL", words["FAUTO"].column)
             return self.feed_auto, False
         if "F" in words:
             f = number(words["F"]) * self.unit / 60.0
             if self.unit != 1.0:
                 f /= 10.0  # inch programs: F in 0.1 inch/min
             if f <= 0:
-                raise BlockError("E_SYNTAX", "feed must be > 0", words["F"].column)
+                raise BlockError(Code.HH_SYNTAX, "feed must be > 0", words["F"].column)
             self.feed = f
         return self.feed, False
 
@@ -226,11 +227,11 @@ class ReaderState:
     def _radius(self, column: int | None = None) -> float:
         """The compensation value R + DR_TAB + DR_CALL (mm) of the called tool."""
         if self.tool is None:
-            raise BlockError("E_NO_TOOL", "radius compensation without a TOOL CALL", column)
+            raise BlockError(Code.HH_NO_TOOL, "radius compensation without a TOOL CALL", column)
         r = compensation_value(self.tool.radius, self.tool.dr, self.dr_call)
         if r < 0:
             raise BlockError(
-                "E_TRC_NEG_RADIUS",
+                Code.HH_TRC_NEG_RADIUS,
                 f"compensation value R + DR_TAB + DR_CALL = {r:g} mm is negative",
                 column,
             )

@@ -38,6 +38,7 @@ import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
+from trcopt.codes import Code
 from trcopt.config import TrcSettings
 from trcopt.controllers.linuxcnc.corners import (
     ARC_SWEEP_SLACK,
@@ -145,11 +146,11 @@ class _LinuxCncCompensator:
                 if q.prog_sweep:
                     sweep = find_turn(self.endpoint, q.center, q.turn, p)
                     if abs(sweep) > abs(q.prog_sweep) + ARC_SWEEP_SLACK:
-                        raise CompensationStop("LCNC-CONCAVE-GOUGE-ARC", span)
+                        raise CompensationStop(Code.LCNC_CONCAVE_GOUGE_ARC, span)
             else:
                 new = (p[0] - self.endpoint[0], p[1] - self.endpoint[1])
                 if q.prog_dir[0] * new[0] + q.prog_dir[1] * new[1] < 0.0:
-                    code = "LCNC-CONCAVE-GOUGE-TRAVERSE" if q.move.feed_mm_s is None else "LCNC-CONCAVE-GOUGE"
+                    code = Code.LCNC_CONCAVE_GOUGE_TRAVERSE if q.move.feed_mm_s is None else Code.LCNC_CONCAVE_GOUGE
                     raise CompensationStop(code, span)
             q.end = (p[0], p[1], q.end[2])
             if k > 0:
@@ -175,9 +176,9 @@ class _LinuxCncCompensator:
         want = comp.effective_side
         if want is not Side.OFF and (not self.on or comp.side_programmed):
             if self.on:
-                raise CompensationStop("LCNC-COMP-ALREADY-ON", m.span)
+                raise CompensationStop(Code.LCNC_COMP_ALREADY_ON, m.span)
             if m.plane is Plane.G19:
-                raise CompensationStop("LCNC-YZ-PLANE", m.span)
+                raise CompensationStop(Code.LCNC_YZ_PLANE, m.span)
             self.on, self.first = True, True
             self.side = 1 if want is Side.LEFT else -1
             self.r = comp.effective_radius
@@ -190,7 +191,7 @@ class _LinuxCncCompensator:
             self.first = False
         if self.on and m.plane is not self.plane:
             if m.plane is Plane.G19:
-                raise CompensationStop("LCNC-YZ-PLANE", m.span)
+                raise CompensationStop(Code.LCNC_YZ_PLANE, m.span)
             self.plane = m.plane
         if m.kind is MoveKind.NONE:
             return
@@ -220,7 +221,7 @@ class _LinuxCncCompensator:
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.CONTOUR
         if self.exit_pending and not keep_exit:
             if m.kind is MoveKind.ARC:
-                raise CompensationStop("LCNC-ARC-AFTER-G40", m.span)
+                raise CompensationStop(Code.LCNC_ARC_AFTER_G40, m.span)
             role = Role.RETRACT
             self.exit_pending = False
         if m.kind is MoveKind.ARC:
@@ -240,7 +241,7 @@ class _LinuxCncCompensator:
         c = self.cur[:2]
         p = end[:2]
         if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.r:
-            raise CompensationStop("LCNC-ENTRY-TOO-SHORT", m.span)
+            raise CompensationStop(Code.LCNC_ENTRY_TOO_SHORT, m.span)
         alpha = angle_to(c, p) + self.side * HALF_PI
         e = point_at(p, self.r, alpha)
         self.endpoint = c
@@ -253,7 +254,7 @@ class _LinuxCncCompensator:
         c = self.cur[:2]
         p = end[:2]
         if math.hypot(p[0] - c[0], p[1] - c[1]) <= self.r:
-            raise CompensationStop("LCNC-ENTRY-ARC-TOO-SHORT", m.span)
+            raise CompensationStop(Code.LCNC_ENTRY_ARC_TOO_SHORT, m.span)
         center = plane_center(m)
         turn = turn_of(m)
         if tool_inside_arc(self.side, turn):
@@ -359,7 +360,7 @@ class _LinuxCncCompensator:
         if inside:
             gamma = angle_to(p, center)
             if arc_radius <= r:
-                raise CompensationStop("LCNC-ARC-TOO-SMALL", m.span)
+                raise CompensationStop(Code.LCNC_ARC_TOO_SMALL, m.span)
         else:
             gamma = angle_to(center, p)
             delta += math.pi

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 
+from trcopt.codes import Code
 from trcopt.errors import SourceSpan
 from trcopt.geometry.vec import Vec2
 from trcopt.nc.model import Move
@@ -50,25 +51,27 @@ TWO_PI = 2.0 * math.pi
 
 #: LinuxCNC's error text for each of our codes.
 MESSAGES: dict[str, str] = {
-    "LCNC-ENTRY-TOO-SHORT": "Length of cutter compensation entry move is not greater than the tool radius",
-    "LCNC-ENTRY-ARC-TOO-SHORT": "Radius of cutter compensation entry arc is not greater than the tool radius",
-    "LCNC-CONCAVE-GOUGE": "Straight feed in concave corner cannot be reached by the tool without gouging",
-    "LCNC-CONCAVE-GOUGE-TRAVERSE": "Straight traverse in concave corner cannot be reached by the tool without gouging",
-    "LCNC-CONCAVE-GOUGE-ARC": "Arc move in concave corner cannot be reached by the tool without gouging",
-    "LCNC-ARC-LINE-GOUGE": "Arc to straight motion makes a corner the compensated tool can't fit in without gouging",
-    "LCNC-ARC-ARC-GOUGE": "Arc to arc motion makes a corner the compensated tool can't fit in without gouging",
-    "LCNC-ARC-SAME-CENTER": "Arc to arc motion is invalid because the arcs have the same center",
-    "LCNC-ARC-TOO-SMALL": "Tool radius not less than arc radius with comp",
-    "LCNC-COMP-ALREADY-ON": "Cannot turn cutter radius comp on when already on",
-    "LCNC-YZ-PLANE": "Cannot use YZ plane with cutter radius comp",
-    "LCNC-ARC-AFTER-G40": "The move just after exiting cutter compensation mode must be straight, not an arc",
+    Code.LCNC_ENTRY_TOO_SHORT: "Length of cutter compensation entry move is not greater than the tool radius",
+    Code.LCNC_ENTRY_ARC_TOO_SHORT: "Radius of cutter compensation entry arc is not greater than the tool radius",
+    Code.LCNC_CONCAVE_GOUGE: "Straight feed in concave corner cannot be reached by the tool without gouging",
+    Code.LCNC_CONCAVE_GOUGE_TRAVERSE: (
+        "Straight traverse in concave corner cannot be reached by the tool without gouging"
+    ),
+    Code.LCNC_CONCAVE_GOUGE_ARC: "Arc move in concave corner cannot be reached by the tool without gouging",
+    Code.LCNC_ARC_LINE_GOUGE: "Arc to straight motion makes a corner the compensated tool can't fit in without gouging",
+    Code.LCNC_ARC_ARC_GOUGE: "Arc to arc motion makes a corner the compensated tool can't fit in without gouging",
+    Code.LCNC_ARC_SAME_CENTER: "Arc to arc motion is invalid because the arcs have the same center",
+    Code.LCNC_ARC_TOO_SMALL: "Tool radius not less than arc radius with comp",
+    Code.LCNC_COMP_ALREADY_ON: "Cannot turn cutter radius comp on when already on",
+    Code.LCNC_YZ_PLANE: "Cannot use YZ plane with cutter radius comp",
+    Code.LCNC_ARC_AFTER_G40: "The move just after exiting cutter compensation mode must be straight, not an arc",
 }
 
 
 class CompensationStop(Exception):
     """A LinuxCNC error: ``code`` (a key of :data:`MESSAGES`) at the block ``span``."""
 
-    def __init__(self, code: str, span: SourceSpan) -> None:
+    def __init__(self, code: Code, span: SourceSpan) -> None:
         super().__init__(MESSAGES[code])
         self.code, self.span = code, span
 
@@ -137,10 +140,10 @@ def arc_line_corner(
     oldrad_prog = prev_radius + r if inside else prev_radius - r
     d = oldrad_prog * math.cos(th - phi)
     if prev_radius == 0.0:  # the previous offset arc shrank to its centre
-        raise CompensationStop("LCNC-ARC-LINE-GOUGE", span)
+        raise CompensationStop(Code.LCNC_ARC_LINE_GOUGE, span)
     cos_ang = (d - r) / prev_radius if inside else (d + r) / prev_radius
     if cos_ang > 1.0 or cos_ang < -1.0:
-        raise CompensationStop("LCNC-ARC-LINE-GOUGE", span)
+        raise CompensationStop(Code.LCNC_ARC_LINE_GOUGE, span)
     if inside:
         ang = (-math.acos(cos_ang) if prev_turn > 0 else math.acos(cos_ang)) + th + math.pi
     else:
@@ -158,13 +161,13 @@ def line_arc_corner(
         dist = arc_radius - r
         sin_ang = (cyv + r) / dist
         if sin_ang > 1.0 or sin_ang < -1.0:
-            raise CompensationStop("LCNC-CONCAVE-GOUGE-ARC", span)
+            raise CompensationStop(Code.LCNC_CONCAVE_GOUGE_ARC, span)
         ang = theta + math.asin(sin_ang) if turn > 0 else theta - math.asin(sin_ang)
     else:
         dist = arc_radius + r
         sin_ang = (cyv - r) / dist
         if sin_ang > 1.0 or sin_ang < -1.0:
-            raise CompensationStop("LCNC-CONCAVE-GOUGE-ARC", span)
+            raise CompensationStop(Code.LCNC_CONCAVE_GOUGE_ARC, span)
         ang = theta + math.pi - math.asin(sin_ang) if turn > 0 else theta + math.pi + math.asin(sin_ang)
     return point_at(center, dist, ang)
 
@@ -186,10 +189,10 @@ def arc_arc_corner(
     newrad = arc_radius - r if inside else arc_radius + r
     arc_cc = math.hypot(prev_center[0] - center[0], prev_center[1] - center[1])
     if prev_radius == 0.0 or arc_cc == 0.0:
-        raise CompensationStop("LCNC-ARC-SAME-CENTER", span)
+        raise CompensationStop(Code.LCNC_ARC_SAME_CENTER, span)
     a = (prev_radius * prev_radius + arc_cc * arc_cc - newrad * newrad) / (2.0 * prev_radius * arc_cc)
     if a > 1.0 or a < -1.0:
-        raise CompensationStop("LCNC-ARC-ARC-GOUGE", span)
+        raise CompensationStop(Code.LCNC_ARC_ARC_GOUGE, span)
     pullback = math.acos(a)
     cc_dir = angle_to(prev_center, center)
     if tool_inside_arc(side, prev_turn):
@@ -206,6 +209,6 @@ def entry_arc_center(current: Vec2, e: Vec2, center: Vec2, span: SourceSpan) -> 
     b_len = math.hypot(current[0] - e[0], current[1] - e[1]) / 2.0
     a_ang = angle_to(e, current) - ab
     if abs(math.cos(a_ang)) < 1e-9:
-        raise CompensationStop("LCNC-ARC-TOO-SMALL", span)
+        raise CompensationStop(Code.LCNC_ARC_TOO_SMALL, span)
     c_len = b_len / math.cos(a_ang)
     return point_at(e, c_len, ab)

@@ -22,6 +22,7 @@ import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from trcopt.codes import Code
 from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, load_tbl
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
@@ -43,7 +44,7 @@ _ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
 
 
 class _Stop(Exception):
-    def __init__(self, code: str, message: str, column: int = 1) -> None:
+    def __init__(self, code: Code, message: str, column: int = 1) -> None:
         super().__init__(message)
         self.code, self.message, self.column = code, message, column
 
@@ -101,7 +102,7 @@ class Rs274Reader:
             self.diags.append(
                 Diagnostic(
                     Severity.INFO,
-                    "RS274-TOOL-TABLE",
+                    Code.LCNC_TOOL_TABLE,
                     f"tool table {table.source} read in {table.unit}",
                     SourceSpan(file, 0, 0),
                 )
@@ -137,7 +138,7 @@ class Rs274Reader:
     def _words(self, line: str) -> list[tuple[str, float, int]]:
         body = line.split(";", 1)[0]
         if "(" in body and body.count("(") != body.count(")"):
-            raise _Stop("NC-SYNTAX", "unclosed comment")
+            raise _Stop(Code.NC_SYNTAX, "unclosed comment")
         body = _COMMENT.sub(lambda mt: " " * len(mt.group(0)), body)
         for bad, what in (
             ("#", "parameters (#)"),
@@ -147,12 +148,12 @@ class Rs274Reader:
             k = body.find(bad)
             if k >= 0:
                 raise _Stop(
-                    "NC-UNSUPPORTED", f"{what} are not supported by the rs274 reader", k + 1
+                    Code.NC_UNSUPPORTED, f"{what} are not supported by the rs274 reader", k + 1
                 )
         m = re.search(r"(?i)\bo\s*[\d<]", body) or re.match(r"(?i)\s*o", body)
         if m:
             raise _Stop(
-                "NC-UNSUPPORTED",
+                Code.NC_UNSUPPORTED,
                 "O-word subroutines and control flow are not supported",
                 m.start() + 1,
             )
@@ -161,15 +162,15 @@ class Rs274Reader:
         for mt in _WORD.finditer(body):
             gap = body[end : mt.start()].strip()
             if gap:
-                raise _Stop("NC-SYNTAX", f"cannot read {gap!r}", end + 1)
+                raise _Stop(Code.NC_SYNTAX, f"cannot read {gap!r}", end + 1)
             letter = mt.group(1).upper()
             if letter not in _ALLOWED_LETTERS:
-                raise _Stop("NC-UNSUPPORTED", f"word {letter} is not supported", mt.start() + 1)
+                raise _Stop(Code.NC_UNSUPPORTED, f"word {letter} is not supported", mt.start() + 1)
             words.append((letter, float(mt.group(2).replace(" ", "")), mt.start() + 1))
             end = mt.end()
         gap = body[end:].strip()
         if gap:
-            raise _Stop("NC-SYNTAX", f"cannot read {gap!r}", end + 1)
+            raise _Stop(Code.NC_SYNTAX, f"cannot read {gap!r}", end + 1)
         return words
 
     def _block(self, line: str, span: SourceSpan, st: _State, moves: list[Move]) -> bool:
@@ -186,9 +187,9 @@ class Rs274Reader:
             elif letter == "M":
                 mcodes.append((int(value), col))
             elif letter == "N":
-                raise _Stop("NC-SYNTAX", "N word must start the block", col)
+                raise _Stop(Code.NC_SYNTAX, "N word must start the block", col)
             elif letter in values:
-                raise _Stop("NC-SYNTAX", f"word {letter} given twice in one block", col)
+                raise _Stop(Code.NC_SYNTAX, f"word {letter} given twice in one block", col)
             else:
                 values[letter] = value
         actions: list[str] = []
@@ -219,7 +220,7 @@ class Rs274Reader:
             elif g in _IGNORED_G:
                 actions.append(f"G{g:g}")
             else:
-                raise _Stop("NC-UNSUPPORTED", f"G{g:g} is not supported by the rs274 reader", col)
+                raise _Stop(Code.NC_UNSUPPORTED, f"G{g:g} is not supported by the rs274 reader", col)
         if "F" in values:
             st.feed_mm_s = values["F"] * st.unit / 60.0
             actions.append(f"F{values['F']:g}")
@@ -238,12 +239,12 @@ class Rs274Reader:
             elif mc in _IGNORED_M:
                 actions.append(f"M{mc}")
             else:
-                raise _Stop("NC-UNSUPPORTED", f"M{mc} is not supported by the rs274 reader", col)
+                raise _Stop(Code.NC_UNSUPPORTED, f"M{mc} is not supported by the rs274 reader", col)
         side_programmed = comp_g is not None
         if comp_g is not None:
             self._compensation(comp_g, values, st)
         elif "D" in values:
-            raise _Stop("NC-SYNTAX", "D word without G41/G42/G41.1/G42.1")
+            raise _Stop(Code.NC_SYNTAX, "D word without G41/G42/G41.1/G42.1")
         if motion is not None:
             st.motion = motion
             if arc_ccw is not None:
@@ -255,7 +256,7 @@ class Rs274Reader:
         full_circle = motion is MoveKind.ARC and any(k in values for k in "IJKR")
         if not axes and not full_circle:
             if motion is MoveKind.ARC:
-                raise _Stop("NC-SYNTAX", "G2/G3 without end point or centre")
+                raise _Stop(Code.NC_SYNTAX, "G2/G3 without end point or centre")
             moves.append(
                 Move(
                     MoveKind.NONE,
@@ -270,7 +271,7 @@ class Rs274Reader:
             )
             return ended
         if st.motion is None:
-            raise _Stop("NC-SYNTAX", "axis words without a motion mode (G0/G1/G2/G3)")
+            raise _Stop(Code.NC_SYNTAX, "axis words without a motion mode (G0/G1/G2/G3)")
         end = list(st.pos)
         for i, letter in enumerate("XYZ"):
             if letter in values:
@@ -282,7 +283,7 @@ class Rs274Reader:
         kind = st.motion
         feed = None if kind is MoveKind.RAPID else st.feed_mm_s
         if kind is not MoveKind.RAPID and feed is None:
-            raise _Stop("NC-SYNTAX", "feed move with no feed rate (F) programmed")
+            raise _Stop(Code.NC_SYNTAX, "feed move with no feed rate (F) programmed")
         if kind is MoveKind.ARC:
             move = self._arc(st, values, end_t, span, comp, feed, tuple(actions), plane_programmed)
         else:
@@ -308,17 +309,17 @@ class Rs274Reader:
         st.side = Side.LEFT if g in (41.0, 41.1) else Side.RIGHT
         if g in (41.1, 42.1):
             if "D" not in values:
-                raise _Stop("NC-SYNTAX", f"G{g:g} with no D word")
+                raise _Stop(Code.NC_SYNTAX, f"G{g:g} with no D word")
             if "L" in values:
-                raise _Stop("NC-UNSUPPORTED", "lathe tool orientation (L word) is not supported")
+                raise _Stop(Code.NC_UNSUPPORTED, "lathe tool orientation (L word) is not supported")
             st.radius_mm = values["D"] * st.unit / 2.0
             return
         if "D" in values:
             d = values["D"]
             if d != int(d):
-                raise _Stop("NC-SYNTAX", f"G{g:g} requires D word to be a whole number")
+                raise _Stop(Code.NC_SYNTAX, f"G{g:g} requires D word to be a whole number")
             if d < 0:
-                raise _Stop("NC-SYNTAX", "Negative D word tool radius index used")
+                raise _Stop(Code.NC_SYNTAX, "Negative D word tool radius index used")
             number: int | None = int(d)
         else:
             number = st.spindle_tool
@@ -328,11 +329,11 @@ class Rs274Reader:
         tool = self.tools.get(number)
         if tool is None:
             raise _Stop(
-                "LCNC-TOOL-NOT-FOUND", f"Requested tool {number} not found in the tool table"
+                Code.LCNC_TOOL_NOT_FOUND, f"Requested tool {number} not found in the tool table"
             )
         if tool.orientation not in (0, 9):
             raise _Stop(
-                "NC-UNSUPPORTED",
+                Code.NC_UNSUPPORTED,
                 f"lathe tool T{number} (orientation {tool.orientation}) is not supported",
             )
         st.radius_mm = tool.radius_mm
@@ -358,7 +359,7 @@ class Rs274Reader:
             p = values["P"]
             if p != int(p) or p < 1:
                 raise _Stop(
-                    "NC-SYNTAX", "P word of an arc must be a positive whole number of turns"
+                    Code.NC_SYNTAX, "P word of an arc must be a positive whole number of turns"
                 )
             turns = int(p) - 1
         if "R" in values:
@@ -367,14 +368,14 @@ class Rs274Reader:
                     s2, e2, values["R"] * st.unit, ccw, self.arc_tolerance_mm, 1e-9
                 )
             except ValueError as exc:
-                raise _Stop("LCNC-ARC-RADIUS", f"R-format arc: {exc}") from None
+                raise _Stop(Code.LCNC_ARC_RADIUS, f"R-format arc: {exc}") from None
         else:
             cu_l, cv_l = _CENTRE_LETTER[iu], _CENTRE_LETTER[iv]
             if cu_l not in values and cv_l not in values:
-                raise _Stop("NC-SYNTAX", f"arc in {plane.value} needs {cu_l} or {cv_l} (or R)")
+                raise _Stop(Code.NC_SYNTAX, f"arc in {plane.value} needs {cu_l} or {cv_l} (or R)")
             for letter in _CENTRE_LETTER[iw]:
                 if letter in values:
-                    raise _Stop("NC-SYNTAX", f"{letter} word is not a centre word in {plane.value}")
+                    raise _Stop(Code.NC_SYNTAX, f"{letter} word is not a centre word in {plane.value}")
             du = values.get(cu_l, 0.0) * st.unit
             dv = values.get(cv_l, 0.0) * st.unit
             if st.ijk_absolute:
@@ -388,11 +389,11 @@ class Rs274Reader:
             big, small = (0.05 * INCH, 0.0005 * INCH) if st.unit != 1.0 else (0.5, 0.005)
             if diff > big or (diff > small and diff > 0.001 * r0):
                 raise _Stop(
-                    "LCNC-ARC-RADIUS",
+                    Code.LCNC_ARC_RADIUS,
                     f"Radius to end of arc differs from radius to start: r1={r0 / st.unit:.4f} r2={r1 / st.unit:.4f}",
                 )
             if r0 == 0.0:
-                raise _Stop("LCNC-ARC-RADIUS", "Zero-radius arc")
+                raise _Stop(Code.LCNC_ARC_RADIUS, "Zero-radius arc")
         centre = plane.to_xyz((c2[0], c2[1], s_uvw[2]))
         return Move(
             MoveKind.ARC,

@@ -14,6 +14,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from trcopt.codes import Code
 from trcopt.errors import ConfigError, SourceSpan
 
 __all__ = ["LinuxCncTool", "LinuxCncToolTable", "load_tbl", "parse_tbl", "find_tbl", "TBL_UNITS"]
@@ -64,7 +65,7 @@ def _unit_factor(unit: str) -> float:
         key = "inch"
     if key not in TBL_UNITS:
         raise ConfigError(
-            f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code="CONFIG"
+            f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code=Code.CONFIG
         )
     return TBL_UNITS[key]
 
@@ -118,7 +119,7 @@ def load_tbl(path: str | os.PathLike[str], unit: str = "inch") -> LinuxCncToolTa
     try:
         text = p.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
-        raise ConfigError(f"cannot read tool table {p}: {exc.strerror}", code="IO") from None
+        raise ConfigError(f"cannot read tool table {p}: {exc.strerror}", code=Code.IO) from None
     return parse_tbl(text, unit, str(p))
 
 

@@ -12,6 +12,7 @@ Lengths in mm (``geom_scale`` turns inch programs into mm).
 
 from __future__ import annotations
 
+from trcopt.codes import Code
 from trcopt.controllers.siemens.lexer import Expr, Word
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
@@ -74,7 +75,7 @@ class WordReader:
     geom_scale: float
     feed_scale: float
 
-    def _warn(self, code: str, message: str, span: SourceSpan) -> None:
+    def _warn(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span))
 
     def _at(self, span: SourceSpan, word: Word) -> SourceSpan:
@@ -86,20 +87,20 @@ class WordReader:
         if type(value) is float:
             return value
         if value is None:
-            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+            raise fail(Code.NC_SYNTAX, f"{word.name} without a value", self._at(span, word))
         if isinstance(value, Expr):
             raise fail(
-                "NC-UNSUPPORTED-EXPR",
+                Code.NC_UNSUPPORTED_EXPR,
                 f"expression {word.text!r} uses variables, which trcopt does not evaluate",
                 self._at(span, word),
             )
-        raise fail("NC-SYNTAX", f"invalid value in {word.text!r}", self._at(span, word))
+        raise fail(Code.NC_SYNTAX, f"invalid value in {word.text!r}", self._at(span, word))
 
     def _integer(self, word: Word, span: SourceSpan) -> int:
         value = self._number(word, span)
         if value != int(value) or value < 0:
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"{word.name} needs a whole number, got {word.text!r}",
                 self._at(span, word),
             )
@@ -117,7 +118,7 @@ class WordReader:
             if isinstance(inner, Expr):
                 self._number(Word(word.name, inner, word.column, word.text), span)
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
                 self._at(span, word),
             )
@@ -125,19 +126,19 @@ class WordReader:
 
     def _keyword(self, word: Word, span: SourceSpan) -> None:
         if word.value is not None:
-            raise fail("NC-SYNTAX", f"{word.name} takes no value", self._at(span, word))
+            raise fail(Code.NC_SYNTAX, f"{word.name} takes no value", self._at(span, word))
 
     def _unsupported(self, word: Word, b: Block, span: SourceSpan) -> None:
         if word.name in _GEOMETRY_WORDS:
             raise fail(
-                "NC-UNSUPPORTED",
+                Code.NC_UNSUPPORTED,
                 f"{word.name} is not supported by trcopt (it would change the geometry)",
                 self._at(span, word),
             )
         if word.value is None and word.subscript is None and len(word.name) == 1:
-            raise fail("NC-SYNTAX", f"{word.name} without a value", self._at(span, word))
+            raise fail(Code.NC_SYNTAX, f"{word.name} without a value", self._at(span, word))
         self._warn(
-            "NC-UNSUPPORTED-WORD",
+            Code.NC_UNSUPPORTED_WORD,
             f"{word.text} is not supported by trcopt (ignored)",
             self._at(span, word),
         )
@@ -151,7 +152,7 @@ class WordReader:
             values = ()
         if len(values) != count or min(values) < 0:
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"{word.name} needs {count} whole-number index"
                 f"{'es' if count > 1 else ''}, got [{word.subscript}]",
                 self._at(span, word),

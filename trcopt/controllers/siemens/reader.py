@@ -12,6 +12,7 @@ from __future__ import annotations
 import gc
 import math
 
+from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block
 from trcopt.controllers.siemens.lexer import LexedBlock, LexError, lex_line
 from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
@@ -76,7 +77,7 @@ class SiemensReader(SiemensWords):
                 lexed = lex_line(line)
             except LexError as exc:
                 span = SourceSpan(self.file, lineno, exc.column, exc.block)
-                self.diagnostics.append(Diagnostic(Severity.ERROR, "NC-SYNTAX", exc.message, span))
+                self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_SYNTAX, exc.message, span))
                 self.blocks += 1
                 failed = True
                 break
@@ -92,14 +93,14 @@ class SiemensReader(SiemensWords):
             except (ArithmeticError, ValueError, TypeError) as exc:  # a bug must not pass silently
                 span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
                 message = f"internal error while reading this block: {exc!r}"
-                self.diagnostics.append(Diagnostic(Severity.ERROR, "NC-INTERNAL", message, span))
+                self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
                 failed = True
                 break
             if ended:
                 break
         if not ended and not failed:
             span = SourceSpan(self.file, max(len(lines), 1), 1)
-            self._warn("NC-NO-END", "program has no end (M2/M30)", span)
+            self._warn(Code.NC_NO_END, "program has no end (M2/M30)", span)
         extras: dict[str, object] = {
             "carriers": self.carriers,
             "toolholder_events": self.toolholder_events,
@@ -161,7 +162,7 @@ class SiemensReader(SiemensWords):
                 edge = st.active_edge()
                 if edge is not None and not edge.supports_trc:
                     raise fail(
-                        "NC-TOOL-TYPE",
+                        Code.NC_TOOL_TYPE,
                         f"unsupported tool type for TRC: tool type {edge.type} ({edge.kind})",
                         SourceSpan(self.file, span.line, col, span.block),
                     )
@@ -169,7 +170,7 @@ class SiemensReader(SiemensWords):
         if b.feed is not None and not b.dwell:  # with G4, F is the dwell time
             if b.feed <= 0.0:
                 raise fail(
-                    "NC-SYNTAX",
+                    Code.NC_SYNTAX,
                     f"feed must be positive, got F{b.feed:g}",
                     SourceSpan(self.file, span.line, b.feed_col, span.block),
                 )
@@ -205,7 +206,7 @@ class SiemensReader(SiemensWords):
             kind = motion
             if has_centre:
                 self._warn(
-                    "NC-UNSUPPORTED-WORD",
+                    Code.NC_UNSUPPORTED_WORD,
                     "circle centre/radius outside G2/G3 ignored",
                     SourceSpan(self.file, span.line, b.centre_col, span.block),
                 )
@@ -226,7 +227,7 @@ class SiemensReader(SiemensWords):
         elif b.sar_param is not None:
             w = b.sar_param
             self._warn(
-                "NC-SAR-PARAM",
+                Code.NC_SAR_PARAM,
                 f"{w.name} without G147/G148/G247/G248/G347/G348 in the block is ignored",
                 self._at(span, w),
             )
@@ -236,7 +237,7 @@ class SiemensReader(SiemensWords):
             feed = st.feed_mm_s
             if feed is None and kind is not _NONE and not self._warned_no_feed:
                 self._warned_no_feed = True
-                self._warn("NC-NO-FEED", "no feed programmed (F) for a G1/G2/G3 block", span)
+                self._warn(Code.NC_NO_FEED, "no feed programmed (F) for a G1/G2/G3 block", span)
         self.moves.append(
             Move(
                 kind=kind,
@@ -271,22 +272,22 @@ class SiemensReader(SiemensWords):
         tol = self.tol.arc_end_radius_mm
         if b.cr is not None:
             if any(c is not None for c in b.centre):
-                raise fail("NC-SYNTAX", "CR= together with I/J/K in one block", col_span)
+                raise fail(Code.NC_SYNTAX, "CR= together with I/J/K in one block", col_span)
             try:
                 cu, cv = arc_centre_from_radius(
                     (su, sv), (eu, ev), b.cr, ccw, tol, self.tol.coincidence_mm
                 )
             except ValueError as exc:
-                raise fail("NC-ARC-RADIUS", str(exc), col_span) from None
+                raise fail(Code.NC_ARC_RADIUS, str(exc), col_span) from None
         else:
             u, v, w = plane.axes
             if not any(b.centre[i] is not None for i in (u, v)):
                 raise fail(
-                    "NC-ARC-CENTRE", "circle without centre (I/J/K) or radius (CR=)", col_span
+                    Code.NC_ARC_CENTRE, "circle without centre (I/J/K) or radius (CR=)", col_span
                 )
             if b.centre[w] is not None:
                 self._warn(
-                    "NC-UNSUPPORTED-WORD",
+                    Code.NC_UNSUPPORTED_WORD,
                     f"centre word {'IJK'[w]} on the applicate ({plane.value}) ignored",
                     col_span,
                 )
@@ -298,12 +299,12 @@ class SiemensReader(SiemensWords):
         radius_start = math.hypot(su - cu, sv - cv)
         if radius_start <= self.tol.coincidence_mm:
             raise fail(
-                "NC-ARC-RADIUS", "circle radius is zero (centre at the start point)", col_span
+                Code.NC_ARC_RADIUS, "circle radius is zero (centre at the start point)", col_span
             )
         mismatch = arc_radius_mismatch((su, sv), (eu, ev), (cu, cv), tol)
         if mismatch is not None:
             raise fail(
-                "NC-ARC-RADIUS",
+                Code.NC_ARC_RADIUS,
                 f"arc end point not on the circle: start radius "
                 f"{mismatch[0]:.4f} mm, end radius {mismatch[1]:.4f} mm (difference "
                 f"{abs(mismatch[0] - mismatch[1]):.4f} > {tol} mm)",

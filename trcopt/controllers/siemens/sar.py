@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import replace
 
+from trcopt.codes import Code
 from trcopt.compensation.leads import SarGeometry, sar_points
 from trcopt.config import TrcSettings
 from trcopt.controllers.siemens.sar_moves import (
@@ -37,7 +38,7 @@ from trcopt.nc.model import CompState, Move, MoveKind
 
 __all__ = ["expand_sar", "PREPROCESSING_STOP"]
 
-PREPROCESSING_STOP = "SAR-PREPROCESSING-STOP"  # spec §A.9 gives no alarm number
+PREPROCESSING_STOP = Code.SAR_PREPROCESSING_STOP  # spec §A.9 gives no alarm number
 _STOP_WORDS = ("STOPRE",)
 
 

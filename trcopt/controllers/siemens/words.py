@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block, WordReader
 from trcopt.controllers.siemens.lexer import Expr, Word
 from trcopt.errors import AlarmError, SourceSpan, alarm
@@ -74,7 +75,7 @@ class SiemensWords(WordReader):
         if handler is None:
             if g == value and g in _GEOMETRY_G:
                 raise fail(
-                    "NC-UNSUPPORTED",
+                    Code.NC_UNSUPPORTED,
                     f"{word.text} is not supported by trcopt",
                     self._at(span, word),
                 )
@@ -85,7 +86,7 @@ class SiemensWords(WordReader):
     def _g_motion(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
         if b.motion is not None:
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"G{b.motion[0]} and {word.text} in one block (same group)",
                 self._at(span, word),
             )
@@ -96,7 +97,7 @@ class SiemensWords(WordReader):
 
     def _g_side(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
         if b.side is not None:
-            raise fail("NC-SYNTAX", "two of G40/G41/G42 in one block", self._at(span, word))
+            raise fail(Code.NC_SYNTAX, "two of G40/G41/G42 in one block", self._at(span, word))
         b.side = (_SIDES[g], word.column)
 
     def _g_mode(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
@@ -119,7 +120,7 @@ class SiemensWords(WordReader):
             pass
         elif g == 95:
             self._warn(
-                "NC-G95", "feed per revolution not supported, treated as G94", self._at(span, word)
+                Code.NC_G95, "feed per revolution not supported, treated as G94", self._at(span, word)
             )
         elif g == 4:
             b.dwell = True
@@ -141,7 +142,7 @@ class SiemensWords(WordReader):
         i = _AXES[word.name]
         if b.axes[i] is not None:
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"address {word.name} programmed twice in one block",
                 self._at(span, word),
             )
@@ -155,7 +156,7 @@ class SiemensWords(WordReader):
         i = _CENTRE[word.name]
         if b.centre[i] is not None:
             raise fail(
-                "NC-SYNTAX",
+                Code.NC_SYNTAX,
                 f"address {word.name} programmed twice in one block",
                 self._at(span, word),
             )
@@ -172,7 +173,7 @@ class SiemensWords(WordReader):
     def _feed(self, word: Word, b: Block, span: SourceSpan) -> None:
         value = self._number(word, span)
         if b.feed is not None:
-            raise fail("NC-SYNTAX", "F programmed twice in one block", self._at(span, word))
+            raise fail(Code.NC_SYNTAX, "F programmed twice in one block", self._at(span, word))
         b.actions.append("F" + _fmt(value))
         b.feed = value
         b.feed_col = word.column
@@ -212,7 +213,7 @@ class SiemensWords(WordReader):
         clamped = min(max(value, 0), limit)
         if clamped != value:
             self._warn(
-                "NC-DISC-CLAMPED",
+                Code.NC_DISC_CLAMPED,
                 f"DISC={value} clamped to {clamped} (CUTCOM_MAX_DISC {limit})",
                 self._at(span, word),
             )
@@ -230,7 +231,7 @@ class SiemensWords(WordReader):
         self._keyword(word, span)
         if word.name == "CUT2DF":
             self._warn(
-                "NC-UNSUPPORTED-WORD",
+                Code.NC_UNSUPPORTED_WORD,
                 "CUT2DF not supported (frame plane); compensating in the G17-G19 plane",
                 self._at(span, word),
             )
@@ -257,7 +258,7 @@ class SiemensWords(WordReader):
             mode, inner = value
             if mode not in ("PM", "PR") or type(inner) is not float:
                 raise fail(
-                    "NC-SYNTAX",
+                    Code.NC_SYNTAX,
                     f"invalid value in {word.text!r} (expected PM(..) or PR(..))",
                     self._at(span, word),
                 )
@@ -266,7 +267,7 @@ class SiemensWords(WordReader):
             value = self._number(word, span)
         if mode == "PR":
             self._warn(
-                "NC-G95",
+                Code.NC_G95,
                 "FAD=PR (feed per revolution) not supported; value kept in mm/rev",
                 self._at(span, word),
             )
@@ -289,7 +290,7 @@ class SiemensWords(WordReader):
         b.actions.append(word.text)
 
     def _block_number(self, word: Word, b: Block, span: SourceSpan) -> None:
-        raise fail("NC-SYNTAX", "block number N inside a block", self._at(span, word))
+        raise fail(Code.NC_SYNTAX, "block number N inside a block", self._at(span, word))
 
     def _system_variable(self, word: Word, b: Block, span: SourceSpan) -> None:
         name = word.name

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import GeometryError, SolverError
 from trcopt.geometry import Arc, Line, Plane
@@ -162,7 +163,7 @@ def optimal_lead(
             raise SolverError(
                 f"no lead fits: binding constraint 'clearance' (the start point is {d0:.4g} mm from contour "
                 f"element {i + 1}, less than R{'' if i in ctx.contact else ' + safety'} = {ctx.required(i):.4g} mm)",
-                code="SOLVER-INFEASIBLE",
+                code=Code.SOLVER_INFEASIBLE,
             )
     first_tc = offset_start(els[0], radius, side_e)
     candidates: list[LeadCandidate] = []
@@ -211,7 +212,7 @@ def optimal_lead(
         raise SolverError(
             f"no lead fits: binding constraint '{name}' (violated by {worst.get(name, float('nan')):.4g} "
             f"mm in the best attempt; R = {radius}, safety = {safety}, rho_min = {rho_min})",
-            code="SOLVER-INFEASIBLE",
+            code=Code.SOLVER_INFEASIBLE,
         )
     best = min(candidates, key=lambda c: c.time_s)
     sar = None
