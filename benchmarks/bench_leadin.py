@@ -1,7 +1,7 @@
 """Optimal lead-in vs SINUMERIK SAR with default parameters on the problem suite.
 
 For every golden problem that plans without alarm and has a compensated contour, the optimal lead
-(trcopt.optimize.optimal_lead: start point = tool position before TRC activation, the program's
+(trcopt.optimize.leads.optimal_lead: start point = tool position before TRC activation, the program's
 R, side and feed, rho_min = 3 mm, safety = 1 mm, embedded machine) is compared with G147, G247
 and G347 with default parameters (DISR = max(rho_min, R), DISCL = 0, G340, G140; see
 trcopt/optimize/leads/report.py). Time = traverse time of lead + first contour element from the timing

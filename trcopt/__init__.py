@@ -7,6 +7,8 @@ toppra, matplotlib and ezdxf load inside the functions that need them.
 
 from __future__ import annotations
 
+from trcopt.lazy import lazy_exports
+
 __version__ = "0.1.0"
 
 from trcopt.config import DEFAULT_MACHINE, AxisLimits, Machine, Tolerances, TrcSettings, load_machine
@@ -40,19 +42,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> object:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'trcopt' has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 
 __all__ = [

@@ -105,7 +105,7 @@ class PlanResult:
     diagnostics: list[Diagnostic]
     timing: Trajectory | None = None  # acceleration- or jerk-limited feed, when computed
     extra: dict[str, Any] = field(default_factory=dict)
-    verification: Any = None  # trcopt.optimize.VerificationReport when computed
+    verification: Any = None  # trcopt.verify.VerificationReport when computed
 
     @property
     def ok(self) -> bool:

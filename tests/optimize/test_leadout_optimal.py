@@ -16,7 +16,7 @@ from gouge import _element_distance, _samples  # noqa: E402
 from trcopt.cli import main
 from trcopt.errors import SolverError, SourceSpan
 from trcopt.geometry import Line, Plane
-from trcopt.optimize import optimal_lead_out
+from trcopt.optimize.leads import optimal_lead_out
 from trcopt.path import Role, Segment
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -88,7 +88,7 @@ def optimal_lead_out(
 ) -> LeadOutResult:
     """The time-optimal tool-centre lead from the end of ``contour`` to ``end``.
 
-    Parameters are those of :func:`~trcopt.optimize.optimal_lead` with ``end`` (mm, plane
+    Parameters are those of :func:`~trcopt.optimize.leads.optimal_lead` with ``end`` (mm, plane
     coordinates) in place of the start point; ``contour`` is in program order and ends where
     the lead-out begins. Raises :class:`~trcopt.errors.SolverError` naming the binding
     constraint when no lead fits.
