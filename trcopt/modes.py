@@ -29,6 +29,9 @@ __all__ = [
     "ToolUnit",
     "CornerObjective",
     "LeadObjective",
+    "ToolFamily",
+    "WearMode",
+    "OrientationWord",
 ]
 
 E = TypeVar("E", bound=enum.Enum)
@@ -179,3 +182,35 @@ class LeadObjective(enum.Enum):
 
     TIME = "time"  # the traverse time of the timing stage, s
     SURROGATE = "surrogate"  # length + 2·ρmin·∫κ² ds, mm (when the timing stage is unavailable)
+
+
+class ToolFamily(enum.Enum):
+    """Which length-to-axis table applies (spec §3.4): milling/drilling (types 100–299) or
+    turning/grinding (types 400–599)."""
+
+    MILLING = "milling"
+    TURNING = "turning"
+
+
+class WearMode(enum.Enum):
+    """Group-56 wear handling (spec §3.8): ``TOWSTD`` wear is rotated with the tool length,
+    ``TOWMCS`` wear is added unrotated in machine coordinates."""
+
+    TOWSTD = "TOWSTD"
+    TOWMCS = "TOWMCS"
+
+
+class OrientationWord(enum.Enum):
+    """Modal G group 42: where the holder angles come from."""
+
+    TCOABS = "TCOABS"
+    TCOFR = "TCOFR"
+    TCOFRZ = "TCOFRZ"
+    TCOFRY = "TCOFRY"
+    TCOFRX = "TCOFRX"
+
+    @property
+    def base_axis(self) -> int:
+        """Index (x=0, y=1, z=2) of the tool axis that TCOFRx aligns with the same frame axis
+        (spec R6); TCOFR = TCOFRZ."""
+        return {"TCOFRX": 0, "TCOFRY": 1}.get(self.value, 2)

@@ -11,7 +11,6 @@ from trcopt.geometry.plane import Plane
 from trcopt.kinematics import (
     Carrier,
     KinematicType,
-    WearMode,
     initial_direction,
     part_rotations,
     relative_direction,
@@ -21,6 +20,7 @@ from trcopt.kinematics import (
     table_offset,
     tool_length_vector,
 )
+from trcopt.modes import WearMode
 
 
 def test_rotation_is_right_handed() -> None:

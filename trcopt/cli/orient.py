@@ -20,7 +20,6 @@ from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceS
 from trcopt.kinematics.carrier import ALARM_KINEMATIC_TYPE, Carrier, carrier_from_assignments
 from trcopt.kinematics.carrier_toml import load_carrier_toml
 from trcopt.kinematics.forward import (
-    ToolFamily,
     initial_direction,
     relative_direction,
     resulting_tool_length,
@@ -30,7 +29,8 @@ from trcopt.kinematics.forward import (
 from trcopt.kinematics.inverse import inverse_solutions
 from trcopt.kinematics.orientation import frame_matrix, reference_angles
 from trcopt.kinematics.program import scan_program
-from trcopt.kinematics.selection import OrientationWord, Selection, select_solution
+from trcopt.kinematics.selection import Selection, select_solution
+from trcopt.modes import OrientationWord, ToolFamily, parse_enum
 
 __all__ = ["add_arguments", "run_orient", "DEFAULT_TOOL_LENGTHS"]
 
@@ -123,7 +123,7 @@ def run_orient(args: argparse.Namespace) -> int:
     except ConfigError as exc:
         _err(file, exc.message)
         return 1 if exc.code == str(ALARM_KINEMATIC_TYPE) else 2
-    word = OrientationWord.parse(args.word)
+    word = parse_enum(OrientationWord, args.word)
     try:
         e = np.zeros(3)
         e[word.base_axis] = 1.0

@@ -58,8 +58,6 @@ from trcopt.kinematics.carrier import (
 )
 from trcopt.kinematics.carrier_toml import carrier_from_toml_dict, load_carrier_toml
 from trcopt.kinematics.forward import (
-    ToolFamily,
-    WearMode,
     initial_direction,
     machine_position,
     part_rotations,
@@ -73,14 +71,8 @@ from trcopt.kinematics.forward import (
 from trcopt.kinematics.inverse import AnglePair, InverseResult, SolutionKind, inverse_solutions
 from trcopt.kinematics.orientation import frame_matrix, reference_angles, solve_orientation, tcoabs_angles
 from trcopt.kinematics.program import evaluate_toolholder, scan_program
-from trcopt.kinematics.selection import (
-    OrientationWord,
-    Selection,
-    fit_limits,
-    hirth_round,
-    select_solution,
-    shift_toward,
-)
+from trcopt.kinematics.selection import Selection, fit_limits, hirth_round, select_solution, shift_toward
+from trcopt.modes import OrientationWord, ToolFamily, WearMode
 
 __all__ = [
     "ALARM_KINEMATIC_TYPE",

@@ -13,7 +13,6 @@ table offset Δ (F2) and the tool direction relative to the workpiece (F3). Conv
 
 from __future__ import annotations
 
-import enum
 import math
 from collections.abc import Sequence
 
@@ -21,10 +20,9 @@ import numpy as np
 
 from trcopt.geometry.plane import Plane
 from trcopt.kinematics.carrier import Carrier, KinematicType
+from trcopt.modes import ToolFamily, WearMode, parse_enum
 
 __all__ = [
-    "ToolFamily",
-    "WearMode",
     "rotation",
     "rpy_matrix",
     "initial_direction",
@@ -38,22 +36,6 @@ __all__ = [
 ]
 
 _EPS_AXIS = 1e-12
-
-
-class ToolFamily(enum.Enum):
-    """Which length-to-axis table applies (spec §3.4): milling/drilling (types 100–299) or
-    turning/grinding (types 400–599)."""
-
-    MILLING = "milling"
-    TURNING = "turning"
-
-
-class WearMode(enum.Enum):
-    """Group-56 wear handling (spec §3.8): ``TOWSTD`` wear is rotated with the tool length,
-    ``TOWMCS`` wear is added unrotated in machine coordinates."""
-
-    TOWSTD = "TOWSTD"
-    TOWMCS = "TOWMCS"
 
 
 def rotation(axis: Sequence[float] | np.ndarray, angle_deg: float) -> np.ndarray:
@@ -115,7 +97,7 @@ def tool_length_vector(
         Tool family choosing the table.
     """
     p = Plane.parse(plane)
-    fam = family if isinstance(family, ToolFamily) else ToolFamily(str(family).lower())
+    fam = parse_enum(ToolFamily, family, "tool family")
     ls = [float(x) for x in lengths] + [0.0] * (3 - len(lengths))
     if len(ls) != 3:
         raise ValueError(f"expected 1 to 3 tool lengths, got {len(lengths)}")

@@ -22,14 +22,8 @@ from trcopt.errors import SourceSpan
 from trcopt.kinematics.carrier import Carrier, holder_error
 from trcopt.kinematics.forward import rpy_matrix
 from trcopt.kinematics.inverse import AnglePair, inverse_solutions, unit_vector
-from trcopt.kinematics.selection import (
-    OrientationWord,
-    Selection,
-    fit_limits,
-    format_angle,
-    format_pair,
-    select_solution,
-)
+from trcopt.kinematics.selection import Selection, fit_limits, format_angle, format_pair, select_solution
+from trcopt.modes import OrientationWord, parse_enum
 
 __all__ = ["solve_orientation", "tcoabs_angles", "reference_angles", "frame_matrix"]
 
@@ -96,7 +90,7 @@ def solve_orientation(
     ValueError
         Both ``frame`` and ``direction`` given, TCOABS as word, or a malformed frame/direction.
     """
-    w = OrientationWord.parse(word)
+    w = parse_enum(OrientationWord, word)
     if w is OrientationWord.TCOABS:
         raise ValueError("TCOABS does not solve an orientation; use tcoabs_angles()")
     if frame is not None and direction is not None:

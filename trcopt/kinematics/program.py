@@ -34,7 +34,6 @@ from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.kinematics.carrier import Carrier, carrier_from_assignments
 from trcopt.kinematics.forward import (
-    ToolFamily,
     initial_direction,
     relative_direction,
     resulting_tool_length,
@@ -43,7 +42,8 @@ from trcopt.kinematics.forward import (
     tool_length_vector,
 )
 from trcopt.kinematics.orientation import solve_orientation, tcoabs_angles
-from trcopt.kinematics.selection import OrientationWord, Selection
+from trcopt.kinematics.selection import Selection
+from trcopt.modes import OrientationWord, ToolFamily, parse_enum
 
 __all__ = ["evaluate_toolholder", "scan_program"]
 
@@ -208,7 +208,7 @@ def evaluate_toolholder(
                     warned.add(m)
                 publish(span, True)
             elif w in _GROUP42:
-                word = OrientationWord.parse(w)
+                word = parse_enum(OrientationWord, w)
                 if carrier is not None:
                     publish(span, True)
             elif w in ("G17", "G18", "G19"):

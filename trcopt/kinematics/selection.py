@@ -10,7 +10,6 @@ software limits with ±k·360° retries (:func:`fit_limits`) and fall-back to th
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass
 
@@ -21,9 +20,9 @@ from trcopt.errors import SourceSpan
 from trcopt.kinematics.carrier import Carrier, holder_error
 from trcopt.kinematics.forward import relative_direction
 from trcopt.kinematics.inverse import AnglePair, InverseResult
+from trcopt.modes import OrientationWord
 
 __all__ = [
-    "OrientationWord",
     "Selection",
     "select_solution",
     "shift_toward",
@@ -34,32 +33,6 @@ __all__ = [
 ]
 
 _LIMIT_TOL = 1e-9
-
-
-class OrientationWord(enum.Enum):
-    """Modal G group 42: where the holder angles come from."""
-
-    TCOABS = "TCOABS"
-    TCOFR = "TCOFR"
-    TCOFRZ = "TCOFRZ"
-    TCOFRY = "TCOFRY"
-    TCOFRX = "TCOFRX"
-
-    @classmethod
-    def parse(cls, value: object) -> OrientationWord:
-        if isinstance(value, OrientationWord):
-            return value
-        try:
-            return cls(str(value).upper())
-        except ValueError:
-            valid = ", ".join(m.value for m in cls)
-            raise ValueError(f"unknown orientation word {value!r}; valid: {valid}") from None
-
-    @property
-    def base_axis(self) -> int:
-        """Index (x=0, y=1, z=2) of the tool axis that TCOFRx aligns with the same frame axis
-        (spec R6); TCOFR = TCOFRZ."""
-        return {"TCOFRX": 0, "TCOFRY": 1}.get(self.value, 2)
 
 
 @dataclass(frozen=True, slots=True)
