@@ -18,15 +18,15 @@ from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import Move, NcProgram
 from trcopt.path import Segment
 
-__all__ = ["Controller", "Reader", "LeadPass", "Compensator"]
+__all__ = ["Controller", "ReadFn", "LeadPassFn", "CompensateFn"]
 
-Reader = Callable[[str, ReadOptions], NcProgram]
+ReadFn = Callable[[str, ReadOptions], NcProgram]
 """Program text → canonical moves; never raises for a problem in the program (diagnostics)."""
 
-LeadPass = Callable[[Iterable[Move], TrcSettings, list[Diagnostic]], Iterator[Move]]
+LeadPassFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic]], Iterator[Move]]
 """Canonical moves with lead blocks → canonical moves the compensation engine runs as programmed."""
 
-Compensator = Callable[[Iterable[Move], TrcSettings, list[Diagnostic], bool], Iterator[Segment]]
+CompensateFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic], bool], Iterator[Segment]]
 """``(moves, settings, diagnostics, complete)`` → tool-centre segments; an alarm stops the stream."""
 
 
@@ -62,10 +62,10 @@ class Controller:
     dialect: str
     title: str
     extensions: tuple[str, ...]
-    read: Reader
-    compensate: Compensator
+    read: ReadFn
+    compensate: CompensateFn
     gcode: GcodeFlavor
-    leads: LeadPass | None = None
+    leads: LeadPassFn | None = None
     recognise: Callable[[str], bool] | None = None
 
     def claims(self, text: str) -> bool:
