@@ -19,11 +19,9 @@ __all__ = [
     "CollisionMode",
     "ApproachStrategy",
     "SarContour",
-    "SarSide",
-    "SarSegmentation",
     "LeadShape",
     "LeadSide",
-    "Segmentation",
+    "LeadSegmentation",
     "RetractEnd",
     "TransitionKind",
     "ToolUnit",
@@ -105,18 +103,6 @@ class SarContour(enum.Enum):
         return self.value.endswith("7")
 
 
-class SarSide(enum.Enum):
-    G140 = "G140"
-    G141 = "G141"
-    G142 = "G142"
-    G143 = "G143"
-
-
-class SarSegmentation(enum.Enum):
-    G340 = "G340"
-    G341 = "G341"
-
-
 class LeadShape(enum.Enum):
     """Shape of the lead contour P3 → P4."""
 
@@ -134,7 +120,7 @@ class LeadSide(enum.Enum):
     AUTOMATIC = "G143"  # the side of the start (approach) or end (retraction) point
 
 
-class Segmentation(enum.Enum):
+class LeadSegmentation(enum.Enum):
     """How the applicate infeed is split (spec R41)."""
 
     SPATIAL = "G340"  # infeed to the DISCL level, then a slanted line or a helix to P4

@@ -8,14 +8,14 @@ import pytest
 
 from trcopt.compensation.leads import LeadSpec, lead_spec, sar_points
 from trcopt.errors import AlarmError, SourceSpan
-from trcopt.modes import LeadShape, LeadSide, RetractEnd, SarContour, SarSegmentation, SarSide, Segmentation
+from trcopt.modes import LeadSegmentation, LeadShape, LeadSide, RetractEnd, SarContour
 from trcopt.nc.model import SarSpec
 
-G340, G341 = SarSegmentation.G340, SarSegmentation.G341
+G340, G341 = LeadSegmentation.SPATIAL, LeadSegmentation.PLANAR
 
 
 def spec(contour: str, side: str = "G140", seg=G340, **kw) -> SarSpec:
-    return SarSpec(SarContour(contour), SarSide(side), seg, **kw)
+    return SarSpec(SarContour(contour), LeadSide(side), seg, **kw)
 
 
 def approx3(p, q, tol=1e-9):
@@ -349,7 +349,7 @@ def test_retraction_end_modes() -> None:
 def test_lead_spec_is_dialect_neutral() -> None:
     lead = lead_spec(spec("G348", "G142", G341, disr=4.0, discl=(3.0, True), disrp=(9.0, False)))
     assert lead == LeadSpec(
-        LeadShape.SEMICIRCLE, False, LeadSide.RIGHT, Segmentation.PLANAR, 4.0, 3.0, True, 9.0, False
+        LeadShape.SEMICIRCLE, False, LeadSide.RIGHT, LeadSegmentation.PLANAR, 4.0, 3.0, True, 9.0, False
     )
     assert lead_spec(lead) is lead
     g = sar_points(lead, p0=(0, 0, 0), p4=(10, 0, 0), tangent=(2, 0))  # tangent is normalised

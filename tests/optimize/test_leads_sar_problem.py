@@ -351,14 +351,14 @@ def test_agrees_with_the_analytic_sar_stage(program: Path | None) -> None:
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_agrees_with_sar_points(name: str) -> None:
     from trcopt.compensation import leads as sar
-    from trcopt.modes import SarContour, SarSegmentation, SarSide
+    from trcopt.modes import LeadSegmentation, LeadSide, SarContour
     from trcopt.nc.model import SarSpec
 
     kw, extra, _ = CASES[name]
     spec = SarSpec(
         SarContour(kw["contour"]),
-        side=SarSide(kw.get("side", "G140")),
-        segmentation=SarSegmentation(kw["segmentation"]),
+        side=LeadSide(kw.get("side", "G140")),
+        segmentation=LeadSegmentation(kw["segmentation"]),
         disr=kw["disr"],
         discl=kw.get("discl"),
         end_programmed=(True, True, True),

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from trcopt.errors import AlarmError, SourceSpan, alarm
 from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2, Vec3
-from trcopt.modes import LeadShape, LeadSide, RetractEnd, SarContour, SarSegmentation, SarSide, Segmentation
+from trcopt.modes import LeadSegmentation, LeadShape, LeadSide, RetractEnd, SarContour
 from trcopt.nc.model import SarSpec
 
 __all__ = [
@@ -56,7 +56,7 @@ class LeadSpec:
     shape: LeadShape
     approach: bool = True
     side: LeadSide = LeadSide.FROM_COMPENSATION
-    segmentation: Segmentation = Segmentation.SPATIAL
+    segmentation: LeadSegmentation = LeadSegmentation.SPATIAL
     disr: float | None = None
     discl: float | None = None
     discl_absolute: bool = False
@@ -83,10 +83,8 @@ def lead_spec(spec: SarSpec | LeadSpec) -> LeadSpec:
     return LeadSpec(
         shape=_SHAPES[spec.contour],
         approach=spec.contour.is_approach,
-        side=LeadSide(spec.side.value) if isinstance(spec.side, SarSide) else LeadSide(spec.side),
-        segmentation=Segmentation(spec.segmentation.value)
-        if isinstance(spec.segmentation, SarSegmentation)
-        else Segmentation(spec.segmentation),
+        side=spec.side,
+        segmentation=spec.segmentation,
         disr=spec.disr,
         discl=discl,
         discl_absolute=discl_abs,
@@ -279,7 +277,7 @@ def sar_points(
     if math.isnan(w1):  # retraction without geometry axes: P0 = P1 = P2
         w1 = w0 = w2
     discl_zero = abs(w2 - w4) <= 1e-12
-    spatial = lead.segmentation is Segmentation.SPATIAL
+    spatial = lead.segmentation is LeadSegmentation.SPATIAL
     if spatial and discl_zero:
         w2 = w1  # §D-3: P1, P2, P3 coincide; the contour runs from P1 to P4
 

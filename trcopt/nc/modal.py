@@ -26,8 +26,8 @@ from trcopt.modes import (
     ApproachStrategy,
     CollisionMode,
     CornerMode,
-    SarSegmentation,
-    SarSide,
+    LeadSegmentation,
+    LeadSide,
     Side,
     ToolUnit,
 )
@@ -118,8 +118,8 @@ class ModalState:
         self.tools = tools
         self.tool: int | None = None
         self.edge: int | None = None
-        self.sar_side = SarSide.G140
-        self.sar_segmentation = SarSegmentation.G340
+        self.sar_side = LeadSide.FROM_COMPENSATION
+        self.sar_segmentation = LeadSegmentation.SPATIAL
         self._comp_cache: dict[tuple[object, ...], CompState] = {}
 
     def active_edge(self) -> ToolEdge | None:

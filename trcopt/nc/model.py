@@ -19,9 +19,9 @@ from trcopt.modes import (
     ApproachStrategy,
     CollisionMode,
     CornerMode,
+    LeadSegmentation,
+    LeadSide,
     SarContour,
-    SarSegmentation,
-    SarSide,
     Side,
 )
 
@@ -44,8 +44,8 @@ class SarSpec:
     """
 
     contour: SarContour
-    side: SarSide = SarSide.G140
-    segmentation: SarSegmentation = SarSegmentation.G340
+    side: LeadSide = LeadSide.FROM_COMPENSATION
+    segmentation: LeadSegmentation = LeadSegmentation.SPATIAL
     disr: float | None = None
     discl: tuple[float, bool] | None = None
     disrp: tuple[float, bool] | None = None

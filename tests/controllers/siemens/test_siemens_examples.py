@@ -14,9 +14,9 @@ from trcopt.modes import (
     ApproachStrategy,
     CollisionMode,
     CornerMode,
+    LeadSegmentation,
+    LeadSide,
     SarContour,
-    SarSegmentation,
-    SarSide,
     Side,
 )
 from trcopt.nc import MoveKind, ToolEdge
@@ -297,7 +297,7 @@ def test_example7_sar_g147():
     sar = n30.sar
     assert sar is not None and sar.contour is SarContour.G147
     assert sar.discl == (3.0, False) and sar.disr == 13.0
-    assert sar.side is SarSide.G140 and sar.segmentation is SarSegmentation.G340
+    assert sar.side is LeadSide.FROM_COMPENSATION and sar.segmentation is LeadSegmentation.SPATIAL
     assert sar.end_programmed == (False, False, True)
     assert n30.comp.side is Side.LEFT and n30.comp.radius == 7.0
     assert m["N40"].sar is None and m["N40"].feed_mm_s == pytest.approx(1000 / 60)
@@ -308,7 +308,7 @@ def test_example8_sar_g247_fad_with_space():
     prog = read_program(EX8, tools={(1, 1): {"type": 120, "radius": 7.0}})
     n20 = by_block(prog)["N20"]
     sar = n20.sar
-    assert sar.contour is SarContour.G247 and sar.segmentation is SarSegmentation.G341
+    assert sar.contour is SarContour.G247 and sar.segmentation is LeadSegmentation.PLANAR
     assert sar.discl == (5.0, True)
     assert sar.disr == 13.0
     assert sar.fad == (pytest.approx(500 / 60), "")
@@ -329,9 +329,9 @@ def test_example9_offn_and_retraction():
     assert n20.sar.contour is SarContour.G247 and n20.sar.discl == (7.0, True)
     assert n20.sar.disr == 10.0 and n20.sar.fad == (pytest.approx(200 / 60), "")
     assert n20.sar.end_programmed == (False, False, True)
-    assert n20.sar.segmentation is SarSegmentation.G341
+    assert n20.sar.segmentation is LeadSegmentation.PLANAR
     n60 = m["N60"]
-    assert n60.sar.contour is SarContour.G248 and n60.sar.segmentation is SarSegmentation.G340
+    assert n60.sar.contour is SarContour.G248 and n60.sar.segmentation is LeadSegmentation.SPATIAL
     assert n60.sar.discl == (6.0, False) and n60.sar.disr == 5.0 and n60.sar.fad is None
     assert n60.comp.side is Side.OFF and n60.comp.side_programmed
     assert n60.end == (70.0, 0.0, 20.0) and n60.kind is MoveKind.LINE
@@ -341,7 +341,7 @@ def test_example9_offn_and_retraction():
 
 def test_example10_g347_g143():
     n20 = by_block(read_program(EX10, tools=MILL4))["N20"]
-    assert n20.sar.contour is SarContour.G347 and n20.sar.side is SarSide.G143
+    assert n20.sar.contour is SarContour.G347 and n20.sar.side is LeadSide.AUTOMATIC
     assert n20.sar.disr == 6.0 and n20.sar.discl == (2.0, False)
     assert n20.comp.side is Side.RIGHT and n20.comp.radius == 4.0
     assert n20.end == (20.0, 0.0, -5.0)
@@ -349,7 +349,7 @@ def test_example10_g347_g143():
 
 def test_example11_retraction_g148():
     n50 = by_block(read_program(EX11, tools=MILL5))["N50"]
-    assert n50.sar.contour is SarContour.G148 and n50.sar.segmentation is SarSegmentation.G341
+    assert n50.sar.contour is SarContour.G148 and n50.sar.segmentation is LeadSegmentation.PLANAR
     assert n50.sar.disr == 10.0 and n50.sar.discl == (2.0, False)
     assert n50.start == (40.0, 0.0, 0.0) and n50.end == (60.0, 20.0, 10.0)
     assert n50.feed_mm_s == pytest.approx(2000 / 60)
@@ -357,17 +357,17 @@ def test_example11_retraction_g148():
 
 def test_example12_alarm_programs_are_readable():
     m = by_block(read_program(EX12))
-    assert m["N20"].sar.side is SarSide.G142 and m["N20"].sar.disr == 8.0
+    assert m["N20"].sar.side is LeadSide.RIGHT and m["N20"].sar.disr == 8.0
     assert m["N40"].sar.disr == -12.0
     assert m["N60"].sar.disr is None  # DISR is block-local: missing
     assert m["N70"].sar.discl == (25.0, True)
     assert m["N80"].sar.discl == (20.005, True)
     n90 = m["N90"]
-    assert n90.sar.side is SarSide.G143 and n90.sar.end_programmed == (False, False, False)
+    assert n90.sar.side is LeadSide.AUTOMATIC and n90.sar.end_programmed == (False, False, False)
     assert n90.kind is MoveKind.NONE  # no axis: the SAR engine raises 10747
     # G142/G341 remain modal
     assert m["N30"].sar is None
-    assert m["N40"].sar.side is SarSide.G142
+    assert m["N40"].sar.side is LeadSide.RIGHT
 
 
 def test_example_moves_are_in_plane_g17():

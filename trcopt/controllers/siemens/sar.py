@@ -33,7 +33,7 @@ from trcopt.controllers.siemens.sar_moves import (
 )
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.vec import Vec2, Vec3
-from trcopt.modes import RetractEnd, SarSegmentation
+from trcopt.modes import LeadSegmentation, RetractEnd
 from trcopt.nc.model import CompState, Move, MoveKind
 
 __all__ = ["expand_sar", "PREPROCESSING_STOP"]
@@ -236,7 +236,7 @@ class _Expander:
         fad = sar.sar.fad[0] if sar.sar.fad is not None else None
         block_feed = p4_block.feed_mm_s if p4_block is not sar else None
         contour_feed = block_feed if block_feed is not None else f_from
-        planar = sar.sar.segmentation is SarSegmentation.G341
+        planar = sar.sar.segmentation is LeadSegmentation.PLANAR
         if planar:
             p23_feed = fad if fad is not None else f_from
         else:
@@ -343,7 +343,7 @@ class _Expander:
         # feeds (R44, §D-10): the old feed on the retraction contour, the SAR block's from P2 on
         old_feed = self.modal_feed
         fad = sar.sar.fad[0] if sar.sar.fad is not None else None
-        planar = sar.sar.segmentation is SarSegmentation.G341
+        planar = sar.sar.segmentation is LeadSegmentation.PLANAR
         contour_feed = fad if (fad is not None and not planar) else old_feed
         p32_feed = fad if (fad is not None and planar) else old_feed
         new_feed = sar.feed_mm_s

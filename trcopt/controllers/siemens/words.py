@@ -25,9 +25,9 @@ from trcopt.modes import (
     ApproachStrategy,
     CollisionMode,
     CornerMode,
+    LeadSegmentation,
+    LeadSide,
     SarContour,
-    SarSegmentation,
-    SarSide,
     Side,
 )
 from trcopt.nc.modal import fail
@@ -42,8 +42,8 @@ MOTION_KINDS = {0: MoveKind.RAPID, 1: MoveKind.LINE, 2: MoveKind.ARC, 3: MoveKin
 _PLANES = {17: Plane.G17, 18: Plane.G18, 19: Plane.G19}
 _SIDES = {40: Side.OFF, 41: Side.LEFT, 42: Side.RIGHT}
 _SAR_CONTOURS = {int(c.value[1:]): c for c in SarContour}
-_SAR_SIDES = {int(c.value[1:]): c for c in SarSide}
-_SAR_SEGMENTATION = {340: SarSegmentation.G340, 341: SarSegmentation.G341}
+_SAR_SIDES = {int(c.value[1:]): c for c in LeadSide}
+_SAR_SEGMENTATION = {340: LeadSegmentation.SPATIAL, 341: LeadSegmentation.PLANAR}
 _CORNERS = {450: CornerMode.TRANSITION_CIRCLE, 451: CornerMode.INTERSECTION}
 _STRATEGIES = {460: ApproachStrategy.G460, 461: ApproachStrategy.G461, 462: ApproachStrategy.G462}
 _APPROACH = {m.value: m for m in ApproachMode}

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from trcopt.geometry import Arc, Line, Plane, Poly
-from trcopt.modes import LeadObjective, SarContour, SarSegmentation, SarSide
+from trcopt.modes import LeadObjective, LeadSegmentation, LeadSide, SarContour
 from trcopt.nc.model import SarSpec
 from trcopt.optimize.leads.context import LeadContext
 from trcopt.optimize.leads.leadin import lead_time
@@ -45,7 +45,12 @@ def sar_baseline(result: LeadResult, code: str, disr: float | None = None) -> tu
     rho_min = result.rho_min
     disr_v = max(rho_min, result.radius) if disr is None else disr
     spec = SarSpec(
-        SarContour(code), SarSide.G140, SarSegmentation.G340, disr=disr_v, discl=None, end_programmed=(True, True, True)
+        SarContour(code),
+        LeadSide.FROM_COMPENSATION,
+        LeadSegmentation.SPATIAL,
+        disr=disr_v,
+        discl=None,
+        end_programmed=(True, True, True),
     )
     g = sar_points(
         spec, p0=result.p0, p4=result.p4, tangent=result.tangent, comp_side=result.side.sign, radius=result.radius

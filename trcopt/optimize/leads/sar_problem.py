@@ -32,7 +32,7 @@ import numpy as np
 
 from trcopt.errors import GeometryError
 from trcopt.geometry.vec import Vec2, Vec3
-from trcopt.modes import SarContour, SarSegmentation, SarSide, Side, parse_enum
+from trcopt.modes import LeadSegmentation, LeadSide, SarContour, Side, parse_enum
 from trcopt.optimize.leads.sar_geometry import SarGeometry
 from trcopt.solution import Solution, SolveStatus, ipopt_options
 
@@ -81,18 +81,18 @@ class SarProblem:
     trc_side: Side | str = Side.LEFT
     radius: float = 0.0
     disr: float | None = None
-    side: SarSide | str = SarSide.G140
+    side: LeadSide | str = LeadSide.FROM_COMPENSATION
     discl: tuple[float, bool] | None = None
     disrp: tuple[float, bool] | None = None
-    segmentation: SarSegmentation | str = SarSegmentation.G340
+    segmentation: LeadSegmentation | str = LeadSegmentation.SPATIAL
     opti: Any = field(init=False, repr=False)
     variables: dict[str, Any] = field(init=False, repr=False)
     groups: dict[str, list[Any]] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.contour = parse_enum(SarContour, self.contour)
-        self.side = parse_enum(SarSide, self.side)
-        self.segmentation = parse_enum(SarSegmentation, self.segmentation)
+        self.side = parse_enum(LeadSide, self.side)
+        self.segmentation = parse_enum(LeadSegmentation, self.segmentation)
         self.trc_side = parse_enum(Side, self.trc_side)
         self.tangent = _unit(self.tangent)
         if self.disr is None:
@@ -109,11 +109,11 @@ class SarProblem:
     def q(self) -> int:
         """Side of approach (R37): +1 left, −1 right."""
         side = self.side
-        if side is SarSide.G141:
+        if side is LeadSide.LEFT:
             return 1
-        if side is SarSide.G142:
+        if side is LeadSide.RIGHT:
             return -1
-        if side is SarSide.G140 and self.trc_side is not Side.OFF:
+        if side is LeadSide.FROM_COMPENSATION and self.trc_side is not Side.OFF:
             return self.trc_side.sign  # type: ignore[union-attr]
         t = self.tangent
         c = t[0] * (self.p0[1] - self.p4[1]) - t[1] * (self.p0[0] - self.p4[0])
@@ -204,14 +204,14 @@ class SarProblem:
             g["levels"].append(P1[2] - (v if absolute else w4 + v))
         discl_zero = self.discl is None or (not self.discl[1] and self.discl[0] == 0.0)
         if discl_zero:
-            if self.segmentation is SarSegmentation.G340:
+            if self.segmentation is LeadSegmentation.SPATIAL:
                 g["levels"] += [P2[2] - P1[2], P3[2] - P1[2]]  # §D-3: the contour descends from w1
             else:
                 g["levels"] += [P2[2] - w4, P3[2] - w4]
         else:
             v, absolute = self.discl  # type: ignore[misc]
             g["levels"].append(P2[2] - (v if absolute else w4 + v))
-            if self.segmentation is SarSegmentation.G340:
+            if self.segmentation is LeadSegmentation.SPATIAL:
                 g["levels"].append(P3[2] - P2[2])
             else:
                 g["levels"].append(P3[2] - w4)
