@@ -30,6 +30,7 @@ __all__ = [
     "ToolFamily",
     "WearMode",
     "OrientationWord",
+    "ApprRadius",
 ]
 
 E = TypeVar("E", bound=enum.Enum)
@@ -200,3 +201,10 @@ class OrientationWord(enum.Enum):
         """Index (x=0, y=1, z=2) of the tool axis that TCOFRx aligns with the same frame axis
         (spec R6); TCOFR = TCOFRZ."""
         return {"TCOFRX": 0, "TCOFRY": 1}.get(self.value, 2)
+
+
+class ApprRadius(enum.Enum):
+    """Heidenhain APPR/DEP CT and LCT: what the programmed radius R measures (spec R9)."""
+
+    CONTOUR = "contour"  # the contour-level arc radius (the tool centre runs on R + r)
+    CENTRE = "centre"  # the tool-centre arc radius (the reading of the manual's example programs)

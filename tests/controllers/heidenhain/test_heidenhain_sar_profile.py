@@ -11,6 +11,7 @@ from trcopt.controllers.heidenhain.profile import HEIDENHAIN
 from trcopt.controllers.heidenhain.reader import read_heidenhain
 from trcopt.controllers.heidenhain.state import HeidenhainOptions
 from trcopt.errors import Diagnostic, Severity, SourceSpan
+from trcopt.modes import ApprRadius
 
 UP = (0.0, 1.0)  # first element at PA = (0, 20) runs +Y; RL: tool side is -X
 
@@ -108,7 +109,10 @@ def test_profile_data():
     assert controllers.get("heidenhain").compensate.__module__ == "trcopt.controllers.heidenhain"
     s = HEIDENHAIN.engine_settings()
     assert s.cutcom_curve_insert_limit_deg == 0.0 and s.cutcom_corner_limit_deg == 180.0 and s.strict is True
-    assert HeidenhainOptions().appr_radius == "contour"
+    assert HeidenhainOptions().appr_radius is ApprRadius.CONTOUR
+    assert HeidenhainOptions(appr_radius="centre").appr_radius is ApprRadius.CENTRE  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="valid: contour, centre"):
+        HeidenhainOptions(appr_radius="tool")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="valid: .*heidenhain.*linuxcnc.*rs274.*siemens"):
         controllers.get("fanuc")
 

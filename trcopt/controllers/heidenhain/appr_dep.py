@@ -25,12 +25,12 @@ from dataclasses import dataclass
 from trcopt.codes import Code
 from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2
+from trcopt.modes import ApprRadius, parse_enum
 
 __all__ = [
     "LeadPiece",
     "Lead",
     "LeadError",
-    "RADIUS_REFS",
     "appr_lt",
     "appr_ln",
     "appr_ct",
@@ -41,7 +41,6 @@ __all__ = [
     "dep_lct",
 ]
 
-RADIUS_REFS = ("contour", "centre")
 
 
 class LeadError(ValueError):
@@ -77,11 +76,10 @@ def _normal(t: Vec2, side: int) -> Vec2:
     return vec.scale(vec.rot90(vec.unit(t)), float(side))
 
 
-def _contour_radius(radius: float, r: float, radius_ref: str) -> float:
+def _contour_radius(radius: float, r: float, radius_ref: ApprRadius | str) -> float:
     """Signed radius of the contour-level arc (centre at PA + Rc·n) for the programmed R."""
-    if radius_ref not in RADIUS_REFS:
-        raise ValueError(f"invalid radius_ref {radius_ref!r}; valid: {', '.join(RADIUS_REFS)}")
-    return radius if radius_ref == "contour" else radius + r
+    ref = parse_enum(ApprRadius, radius_ref, "APPR/DEP radius reading")
+    return radius if ref is ApprRadius.CONTOUR else radius + r
 
 
 def _centre_radius(rc: float, r: float) -> float:
@@ -162,7 +160,7 @@ def appr_ct(
     r: float,
     cca: float,
     radius: float,
-    radius_ref: str = "contour",
+    radius_ref: ApprRadius | str = ApprRadius.CONTOUR,
 ) -> Lead:
     """APPR CT: arc tangent to the first element at PA, centre M = PA + Rc·n, through CCA (deg);
     R > 0: centre on the tool side (RL CCW, RR CW), R < 0: on the material side (RL CW, RR CCW)."""
@@ -182,7 +180,7 @@ def appr_ct(
 
 
 def appr_lct(
-    ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, radius: float, radius_ref: str = "contour"
+    ps: Vec2, pa: Vec2, t: Vec2, side: int, r: float, radius: float, radius_ref: ApprRadius | str = ApprRadius.CONTOUR
 ) -> Lead:
     """APPR LCT: line from PS tangent to an arc of radius R (> 0) that is tangent to the first
     element at PA (centre M = PA + Rc·n, RL CCW, RR CW)."""
@@ -222,7 +220,7 @@ def dep_ln(pe: Vec2, t: Vec2, side: int, r: float, length: float) -> Lead:
 
 
 def dep_ct(
-    pe: Vec2, t: Vec2, side: int, r: float, cca: float, radius: float, radius_ref: str = "contour"
+    pe: Vec2, t: Vec2, side: int, r: float, cca: float, radius: float, radius_ref: ApprRadius | str = ApprRadius.CONTOUR
 ) -> Lead:
     """DEP CT: tangential arc about M = PE + Rc·n through CCA (same sign rules as APPR CT)."""
     _check_cca(cca)
@@ -241,7 +239,7 @@ def dep_ct(
 
 
 def dep_lct(
-    pe: Vec2, t: Vec2, side: int, r: float, pn: Vec2, radius: float, radius_ref: str = "contour"
+    pe: Vec2, t: Vec2, side: int, r: float, pn: Vec2, radius: float, radius_ref: ApprRadius | str = ApprRadius.CONTOUR
 ) -> Lead:
     """DEP LCT: arc from PE about M = PE + Rc·n (RL CCW, RR CW) to the tangent point PH, then the
     tangent line PH → PN (R0)."""

@@ -26,7 +26,7 @@ from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec3
-from trcopt.modes import Side
+from trcopt.modes import ApprRadius, Side, parse_enum
 
 __all__ = [
     "BlockError",
@@ -77,11 +77,14 @@ class BlockError(Exception):
 
 @dataclass(frozen=True, slots=True)
 class HeidenhainOptions:
-    """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9:
-    ``"contour"``, recommended default, or ``"centre"``); ``tools`` preset tool table."""
+    """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9; a string
+    is accepted and checked); ``tools`` preset tool table."""
 
-    appr_radius: str = "contour"
+    appr_radius: ApprRadius = ApprRadius.CONTOUR
     tools: dict[int, HhTool] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "appr_radius", parse_enum(ApprRadius, self.appr_radius, "APPR/DEP radius reading"))
 
 
 @dataclass(slots=True)
