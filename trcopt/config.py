@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from trcopt.errors import ConfigError
+from trcopt.modes import FeedReference, parse_enum
 
 __all__ = [
     "Tolerances",
@@ -99,8 +100,9 @@ class AxisLimits:
 class Machine:
     """A machine: name, rapid feed (mm/min) and per-axis limits for X, Y, Z.
 
-    ``feed_reference`` says whether the programmed feed applies to the contour (``"contour"``,
-    SINUMERIK's CFC-like reading) or to the tool centre (``"centre"``, CFTCP, the default).
+    ``feed_reference`` says whether the programmed feed applies to the contour
+    (``FeedReference.CONTOUR``, SINUMERIK's CFC-like reading) or to the tool centre
+    (``FeedReference.CENTRE``, CFTCP, the default).
     """
 
     name: str = "trcopt default 3-axis mill"
@@ -110,7 +112,11 @@ class Machine:
         ("Y", AxisLimits(250.0, 2000.0, 50000.0)),
         ("Z", AxisLimits(100.0, 1000.0, 20000.0)),
     )
-    feed_reference: str = "centre"
+    feed_reference: FeedReference = FeedReference.CENTRE
+
+    def __post_init__(self) -> None:
+        # a string is accepted here, at the boundary, and becomes the mode
+        object.__setattr__(self, "feed_reference", parse_enum(FeedReference, self.feed_reference, "feed_reference"))
 
     def axis(self, name: str) -> AxisLimits:
         for key, limits in self.axes:
@@ -126,7 +132,7 @@ class Machine:
         return {
             "name": self.name,
             "rapid_mm_min": self.rapid_mm_min,
-            "feed_reference": self.feed_reference,
+            "feed_reference": self.feed_reference.value,
             "axes": {
                 k: {"vmax_mm_s": a.vmax_mm_s, "amax_mm_s2": a.amax_mm_s2, "jmax_mm_s3": a.jmax_mm_s3}
                 for k, a in self.axes
@@ -138,7 +144,6 @@ DEFAULT_MACHINE = Machine()
 
 _MACHINE_KEYS = {"name", "rapid_mm_min", "axes", "feed_reference"}
 _AXIS_KEYS = {f.name for f in fields(AxisLimits)}
-_FEED_REFERENCES = ("centre", "contour")
 
 
 def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machine:
@@ -169,11 +174,10 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
             raise ConfigError(f"{source}: axes.{name} needs {exc.args[0]}") from None
         except (TypeError, ValueError) as exc:
             raise ConfigError(f"{source}: axes.{name}: {exc}") from None
-    feed_reference = data.get("feed_reference", base.feed_reference)
-    if feed_reference not in _FEED_REFERENCES:
-        raise ConfigError(
-            f"{source}: feed_reference must be one of {', '.join(_FEED_REFERENCES)}, got {feed_reference!r}"
-        )
+    try:
+        feed_reference = parse_enum(FeedReference, data.get("feed_reference", base.feed_reference), "feed_reference")
+    except ValueError as exc:
+        raise ConfigError(f"{source}: {exc}") from None
     rapid = data.get("rapid_mm_min", base.rapid_mm_min)
     if not isinstance(rapid, int | float) or not rapid > 0:
         raise ConfigError(f"{source}: rapid_mm_min must be a positive number")
@@ -181,7 +185,7 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
         name=str(data.get("name", base.name)),
         rapid_mm_min=float(rapid),
         axes=tuple((k, axes[k]) for k in ("X", "Y", "Z")),
-        feed_reference=str(feed_reference),
+        feed_reference=feed_reference,
     )
 
 

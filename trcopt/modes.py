@@ -31,6 +31,8 @@ __all__ = [
     "WearMode",
     "OrientationWord",
     "ApprRadius",
+    "FeedReference",
+    "TimingEngine",
 ]
 
 E = TypeVar("E", bound=enum.Enum)
@@ -208,3 +210,18 @@ class ApprRadius(enum.Enum):
 
     CONTOUR = "contour"  # the contour-level arc radius (the tool centre runs on R + r)
     CENTRE = "centre"  # the tool-centre arc radius (the reading of the manual's example programs)
+
+
+class FeedReference(enum.Enum):
+    """Where the programmed feed holds (machine file ``feed_reference``)."""
+
+    CENTRE = "centre"  # on the tool centre (CFTCP), the default
+    CONTOUR = "contour"  # on the contour (CFC-like): compensated arcs are scaled
+
+
+class TimingEngine(enum.Enum):
+    """Which solver times a section of the acceleration-limited feed."""
+
+    AUTO = "auto"  # the own reachability solver on lines and arcs, toppra on polynomial sections
+    OWN = "own"  # the own solver everywhere it applies
+    TOPPRA = "toppra"  # toppra on every section

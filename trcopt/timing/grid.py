@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from trcopt.modes import TimingEngine
 from trcopt.timing.path import SegmentEval
 
 RAMP_POINTS = 16.0
@@ -64,7 +65,7 @@ def _graded(length: float, h0: float, zone: float, hmax: float) -> np.ndarray:
     return out
 
 
-def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: str) -> tuple[np.ndarray, float]:
+def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine) -> tuple[np.ndarray, float]:
     """Local grid points (0 .. length, mm) of one segment and the arc's angular rate (rad/mm).
 
     Parameters
@@ -76,13 +77,13 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: str) -> tupl
     amin:
         Smallest axis acceleration limit, mm/s².
     engine:
-        ``"own"`` or ``"toppra"``.
+        ``OWN`` (lines need no interior points) or ``TOPPRA``.
     """
     length = ev.length
     ramp = feed * feed / (2.0 * amin)
     h0 = min(ramp / RAMP_POINTS, length / 4.0)
     if ev.kind == "line":
-        if engine == "own":
+        if engine is TimingEngine.OWN:
             return np.array([0.0, length]), 0.0
         return _graded(length, h0, ramp, LINE_CAP_MM), 0.0
     if ev.kind == "arc":

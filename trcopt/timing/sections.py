@@ -18,7 +18,7 @@ from trcopt.codes import Code
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.geometry.primitives import Arc
-from trcopt.modes import Side
+from trcopt.modes import FeedReference, Side
 from trcopt.path import Role, Segment
 from trcopt.timing.path import PathArrays
 
@@ -54,7 +54,7 @@ def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
     """Path-speed limit of each segment at the tool centre, mm/s.
 
     Rapids (``feed_mm_s is None``) run at the machine's rapid feed. With
-    ``machine.feed_reference == "contour"`` the programmed feed holds on the contour: on a
+    ``machine.feed_reference`` is ``FeedReference.CONTOUR`` the programmed feed holds on the contour: on a
     compensated arc the tool-centre feed is ``F·R_centre/R_contour`` (lines are unchanged;
     corner transition circles, whose contour radius is zero, keep the programmed feed).
     """
@@ -62,7 +62,7 @@ def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
     for i, seg in enumerate(segments):
         f = machine.rapid_mm_s if seg.feed_mm_s is None else float(seg.feed_mm_s)
         if (
-            machine.feed_reference == "contour"
+            machine.feed_reference is FeedReference.CONTOUR
             and seg.feed_mm_s is not None
             and isinstance(seg.geometry, Arc)
             and seg.side is not Side.OFF

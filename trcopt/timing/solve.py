@@ -15,6 +15,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from trcopt.config import DEFAULT_MACHINE, Machine
+from trcopt.modes import TimingEngine, parse_enum
 from trcopt.path import Segment
 from trcopt.timing.grid import segment_grid
 from trcopt.timing.path import PathArrays
@@ -23,16 +24,14 @@ from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_se
 from trcopt.timing.toppra_engine import solve_section_toppra
 from trcopt.timing.trajectory import TimedTrajectory
 
-__all__ = ["time_parameterize", "ENGINES"]
-
-ENGINES = ("auto", "own", "toppra")
+__all__ = ["time_parameterize"]
 
 
 def time_parameterize(
     toolpath: Sequence[Segment],
     machine: Machine = DEFAULT_MACHINE,
     *,
-    engine: str = "auto",
+    engine: TimingEngine | str = TimingEngine.AUTO,
     workers: int = 1,
     tangent_tol_rad: float = 1e-6,
 ) -> TimedTrajectory:
@@ -45,8 +44,9 @@ def time_parameterize(
     machine:
         Per-axis ``vmax`` (mm/s) and ``amax`` (mm/s²), rapid feed and feed reference.
     engine:
-        ``"auto"`` (own reachability solver on line/arc sections, toppra on sections with Poly
-        curves), ``"own"`` (same, spelled out) or ``"toppra"`` (toppra on every section).
+        ``AUTO`` (own reachability solver on line/arc sections, toppra on sections with Poly
+        curves), ``OWN`` (same, spelled out) or ``TOPPRA`` (toppra on every section); the value
+        strings are accepted.
     workers:
         Processes for the toppra sections (independent sections run in parallel).
     tangent_tol_rad:
@@ -62,8 +62,7 @@ def time_parameterize(
     TimingError
         A section cannot be parameterised; names section, s, source block and a remedy.
     """
-    if engine not in ENGINES:
-        raise ValueError(f"unknown timing engine {engine!r}; valid: {', '.join(ENGINES)}")
+    engine = parse_enum(TimingEngine, engine, "timing engine")
     segments = list(toolpath)
     vmax, amax = axis_limits(machine)
     if not segments:
@@ -72,7 +71,7 @@ def time_parameterize(
     feeds = segment_feeds(segments, machine)
     sections = split_sections(segments, arrays, tangent_tol_rad)
     use_toppra = [
-        engine == "toppra" or bool(np.any(arrays.kind[sec.first : sec.last + 1] == 2)) for sec in sections
+        engine is TimingEngine.TOPPRA or bool(np.any(arrays.kind[sec.first : sec.last + 1] == 2)) for sec in sections
     ]
     results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
     own = [sec for sec, t in zip(sections, use_toppra, strict=True) if not t]
@@ -116,7 +115,7 @@ def _solve_own(
     n_int = np.zeros(len(secs), dtype=np.int64)
     for q, sec in enumerate(secs):
         for k in sec.segment_indices:
-            local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, "own")
+            local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, TimingEngine.OWN)
             m = local.shape[0] - 1
             s_lo.append(local[:-1])
             s_hi.append(local[1:])

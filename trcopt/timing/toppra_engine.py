@@ -16,6 +16,7 @@ import numpy as np
 
 from trcopt.codes import Code
 from trcopt.errors import TimingError
+from trcopt.modes import TimingEngine
 from trcopt.path import Segment
 from trcopt.timing.grid import KNOT_EPS_MM, segment_grid
 from trcopt.timing.path import SectionPath
@@ -30,7 +31,7 @@ def section_grid_toppra(path: SectionPath, feeds: np.ndarray, amin: float) -> np
     """Grid of a section for toppra: the adaptive segment grids plus ``s_k − ε`` before knots."""
     parts = []
     for k, ev in enumerate(path.evals):
-        local, _ = segment_grid(ev, float(feeds[k]), amin, "toppra")
+        local, _ = segment_grid(ev, float(feeds[k]), amin, TimingEngine.TOPPRA)
         parts.append(path.knots[k] + local)
         if k + 1 < len(path.evals):
             parts.append(np.array([path.knots[k + 1] - KNOT_EPS_MM]))

@@ -27,7 +27,7 @@ from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, l
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec3
-from trcopt.modes import Side
+from trcopt.modes import Side, ToolUnit
 from trcopt.nc.modal import ReadOptions, arc_centre_from_radius
 from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
 
@@ -87,7 +87,7 @@ class Rs274Reader:
         self,
         file: str = "<program>",
         tools: LinuxCncToolTable | str | os.PathLike[str] | None = None,
-        tool_unit: str = "inch",
+        tool_unit: ToolUnit | str = ToolUnit.INCH,
         arc_tolerance_mm: float = 0.005,
     ) -> None:
         self.file = file
@@ -103,7 +103,7 @@ class Rs274Reader:
                 Diagnostic(
                     Severity.INFO,
                     Code.LCNC_TOOL_TABLE,
-                    f"tool table {table.source} read in {table.unit}",
+                    f"tool table {table.source} read in {table.unit.value}",
                     SourceSpan(file, 0, 0),
                 )
             )
@@ -415,7 +415,7 @@ def read_rs274(
     text: str,
     file: str = "<program>",
     tools: LinuxCncToolTable | str | os.PathLike[str] | None = None,
-    tool_unit: str = "inch",
+    tool_unit: ToolUnit | str = ToolUnit.INCH,
 ) -> NcProgram:
     """Read an RS274NGC program; never raises for a problem in the program (see the module
     docstring). ``tools``: a LinuxCNC tool table or a path to one (read in ``tool_unit``);
@@ -431,4 +431,4 @@ def read_ngc(text: str, options: ReadOptions) -> NcProgram:
         # preset edges are SINUMERIK tool data, not a LinuxCNC table: the program reads with an
         # empty table (and, as any table given, none is looked up beside the program)
         table = LinuxCncToolTable()
-    return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit.value)
+    return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit)

@@ -16,10 +16,9 @@ from pathlib import Path
 
 from trcopt.codes import Code
 from trcopt.errors import ConfigError, SourceSpan
+from trcopt.modes import ToolUnit, parse_enum
 
-__all__ = ["LinuxCncTool", "LinuxCncToolTable", "load_tbl", "parse_tbl", "find_tbl", "TBL_UNITS"]
-
-TBL_UNITS = {"inch": 25.4, "mm": 1.0}
+__all__ = ["LinuxCncTool", "LinuxCncToolTable", "load_tbl", "parse_tbl", "find_tbl"]
 _WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
 _KNOWN = set("TPXYZABCUVWDIJQ")
 
@@ -43,10 +42,10 @@ class LinuxCncTool:
 
 @dataclass(frozen=True, slots=True)
 class LinuxCncToolTable:
-    """Tools by number, with the unit the file was read in (``inch`` or ``mm``)."""
+    """Tools by number, with the unit the file was read in."""
 
     tools: dict[int, LinuxCncTool] = field(default_factory=dict)
-    unit: str = "inch"
+    unit: ToolUnit = ToolUnit.INCH
     source: str = "<table>"
 
     def get(self, number: int) -> LinuxCncTool | None:
@@ -59,24 +58,23 @@ class LinuxCncToolTable:
         return len(self.tools)
 
 
-def _unit_factor(unit: str) -> float:
-    key = str(unit).strip().lower()
-    if key in ("in", "inches"):
-        key = "inch"
-    if key not in TBL_UNITS:
-        raise ConfigError(
-            f"invalid tool table unit {unit!r}; valid: {', '.join(TBL_UNITS)}", code=Code.CONFIG
-        )
-    return TBL_UNITS[key]
+def _unit(unit: ToolUnit | str) -> ToolUnit:
+    """The table's unit; ``in``/``inches`` are read as inch, anything unknown is a ConfigError."""
+    key = unit if isinstance(unit, ToolUnit) else {"in": "inch", "inches": "inch"}.get(str(unit).strip().lower(), unit)
+    try:
+        return parse_enum(ToolUnit, key, "tool table unit")
+    except ValueError as exc:
+        raise ConfigError(str(exc), code=Code.CONFIG) from None
 
 
-def parse_tbl(text: str, unit: str = "inch", source: str = "<table>") -> LinuxCncToolTable:
+def parse_tbl(text: str, unit: ToolUnit | str = ToolUnit.INCH, source: str = "<table>") -> LinuxCncToolTable:
     """Parse the text of a LinuxCNC tool table whose lengths are in ``unit``.
 
     Raises :class:`~trcopt.errors.ConfigError` (naming file and line) for a line without ``T``,
     an unknown word, a word given twice or a repeated tool number.
     """
-    k = _unit_factor(unit)
+    table_unit = _unit(unit)
+    k = table_unit.mm
     tools: dict[int, LinuxCncTool] = {}
     for lineno, raw in enumerate(text.splitlines(), start=1):
         body, _, comment = raw.partition(";")
@@ -109,10 +107,10 @@ def parse_tbl(text: str, unit: str = "inch", source: str = "<table>") -> LinuxCn
             z_offset_mm=words.get("Z", 0.0) * k,
             comment=comment.strip(),
         )
-    return LinuxCncToolTable(tools, "inch" if k != 1.0 else "mm", source)
+    return LinuxCncToolTable(tools, table_unit, source)
 
 
-def load_tbl(path: str | os.PathLike[str], unit: str = "inch") -> LinuxCncToolTable:
+def load_tbl(path: str | os.PathLike[str], unit: ToolUnit | str = ToolUnit.INCH) -> LinuxCncToolTable:
     """Read a LinuxCNC ``.tbl`` file whose lengths are in ``unit`` (``"inch"``, LinuxCNC's default
     machine unit, or ``"mm"``). An unreadable file raises ConfigError (code ``IO``)."""
     p = Path(path)
