@@ -6,6 +6,7 @@ Each stage is also callable on its own (:func:`trcopt.nc.read_program`,
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -91,6 +92,11 @@ class PlanOptions:
             object.__setattr__(self, "corners", corner_strategies.get(self.corners).name)
         except ValueError as exc:
             raise TrcoptError(f"--corners: {exc}", code=Code.USAGE) from None
+        if not (math.isfinite(self.tolerance_mm) and self.tolerance_mm > 0.0):
+            raise TrcoptError(
+                f"--tolerance: the corner tolerance must be a positive finite length in mm, got {self.tolerance_mm!r}",
+                code=Code.USAGE,
+            )
 
 
 @dataclass(slots=True)

@@ -209,3 +209,23 @@ def test_jerk_limited_feed_that_fails_its_check_is_reported(tmp_path, capsys, mo
     assert "jerk-limited feed check" in text and "jerk measure 1.0523" in text
     plan = json.loads(out.read_text())
     assert any("jerk measure 1.0523" in d["message"] for d in plan["diagnostics"])
+
+
+@pytest.mark.parametrize("value", ["-1", "0", "nan", "inf", "abc"])
+def test_a_tolerance_that_is_not_a_positive_length_is_a_usage_error(value, capsys):
+    program = str(ROOT / "problems" / "siemens" / "ex02_square_g450.mpf")
+    with pytest.raises(SystemExit) as exc:
+        main(["plan", program, "--no-timing", "--corners", "arc", f"--tolerance={value}"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "--tolerance" in err and value in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("value", [-1.0, 0.0, float("nan"), float("inf")])
+def test_plan_options_reject_a_tolerance_that_is_not_a_positive_length(value):
+    from trcopt.errors import TrcoptError
+    from trcopt.pipeline import PlanOptions
+
+    with pytest.raises(TrcoptError, match="--tolerance") as exc:
+        PlanOptions(corners="arc", tolerance_mm=value)
+    assert exc.value.code == "USAGE"

@@ -62,7 +62,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--corners", default=corner_strategies.EXACT, choices=corner_strategies.names(),
         help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
     )
-    p.add_argument("--tolerance", type=float, default=0.01, help="contour tolerance for --corners, mm (default 0.01)")
+    p.add_argument(
+        "--tolerance", type=_positive_mm, default=0.01, help="contour tolerance for --corners, mm (default 0.01)"
+    )
     p.add_argument(
         "--jerk", action="store_true",
         help="jerk-limited feed (needs jmax_mm_s3 on every machine axis; IPOPT per section, slower)",
@@ -99,6 +101,19 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         jerk=getattr(args, "jerk", False),
         workers=getattr(args, "workers", 1),
     )
+
+
+def _positive_mm(text: str) -> float:
+    """``--tolerance`` value: a positive finite length, mm."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"must be a positive finite length in mm, got {text!r}")
+    return value
 
 
 def _workers(text: str) -> int:
