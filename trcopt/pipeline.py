@@ -174,6 +174,12 @@ class PlanResult:
                 + (f"; {corners['curvature_jumps']} curvature jumps smoothed" if corners.get("curvature_jumps") else "")
                 + "), "
                 f"max deviation {corners['max_deviation_mm']:.4f} mm"
+                + (
+                    f"; under jerk limits the exact path is faster ({corners['exact_duration_s']:.3f} s vs "
+                    f"{corners['transitions_duration_s']:.3f} s) and is kept"
+                    if corners.get("kept") == "exact"
+                    else ""
+                )
             )
         if self.verification is not None:
             lines.append(self.verification.summary_line())
@@ -229,6 +235,7 @@ def plan(
 
         result.verification = verify_plan(programmed, toolpath, moves, settings)
         result.extra["verification"] = result.verification.to_json()
+    exact_toolpath = toolpath
     if opts.corners != corner_strategies.EXACT and toolpath and result.ok:
         from trcopt.optimize.corners.blend import blend_corners
 
@@ -260,8 +267,39 @@ def plan(
             "max_deviation_mm": blended.max_deviation_mm,
         }
     if opts.timing and toolpath:
+        before_timing = len(result.diagnostics)
         _attach_timing(result, opts.machine, jerk=opts.jerk, workers=opts.workers)
+        if opts.jerk and toolpath is not exact_toolpath:
+            _keep_the_faster_under_jerk(result, exact_toolpath, opts, before_timing)
     return result
+
+
+def _keep_the_faster_under_jerk(
+    result: PlanResult, exact_toolpath: list[Segment], opts: PlanOptions, before_timing: int
+) -> None:
+    """Under jerk limits, time the controller's exact path as well and keep whichever is faster.
+
+    The transitions are chosen by their curvature (rate) without timing the whole path jerk-limited,
+    and on parts with only sharp corners at a small tolerance exact stop can be faster (measured in
+    benchmarks/JERK.md); ``corners.kept`` and both cycle times in the JSON say which was kept.
+    """
+    corners = result.extra["corners"]
+    transitions = result.timing
+    if transitions is None or not transitions.jerk_limited:
+        return  # the jerk-limited feed of the transitions failed: the warning says so
+    exact = PlanResult(result.program, result.dialect, result.nc, result.programmed, exact_toolpath, [])
+    _attach_timing(exact, opts.machine, jerk=True, workers=opts.workers)
+    if exact.timing is None or not exact.timing.jerk_limited:
+        return
+    corners["transitions_duration_s"] = transitions.duration
+    corners["exact_duration_s"] = exact.timing.duration
+    if exact.timing.duration < transitions.duration:
+        corners["kept"] = "exact"
+        result.toolpath, result.timing = exact.toolpath, exact.timing
+        # the timing warnings of the discarded profile go with it (they follow ``before_timing``)
+        result.diagnostics[before_timing:] = exact.diagnostics
+    else:
+        corners["kept"] = "transitions"
 
 
 def _controller(name: str, what: str) -> Controller:

@@ -95,6 +95,25 @@ def test_plan_with_corners_and_jerk_uses_the_jerk_objective(tmp_path):
     assert plan["timing"]["jerk_limited"] is True and plan["timing"]["limits_ok"] is True
 
 
+@pytest.mark.parametrize(("name", "kept"), [("pocket_square", "exact"), ("obround_pocket", "transitions")])
+def test_under_jerk_limits_corners_are_never_slower_than_the_exact_path(name, kept):
+    """The transitions are kept only where the jerk-limited feed is faster with them (the square
+    pocket's four sharp corners at ε 0.01 are faster as exact stops; benchmarks/JERK.md)."""
+    program = ROOT / "problems" / "corners" / f"{name}.mpf"
+    exact = plan_file(program, PlanOptions(jerk=True, verify=False))
+    best = plan_file(program, PlanOptions(jerk=True, corners="optimal", tolerance_mm=0.01, verify=False))
+    corners = best.extra["corners"]
+    assert corners["kept"] == kept and corners["blended"] == 4
+    assert corners["exact_duration_s"] == pytest.approx(exact.duration, rel=1e-9)
+    assert best.duration == pytest.approx(min(corners["exact_duration_s"], corners["transitions_duration_s"]))
+    assert best.duration <= exact.duration * (1 + 1e-9)
+    if kept == "exact":
+        assert [s.geometry for s in best.toolpath] == [s.geometry for s in exact.toolpath]
+        assert "exact path is faster" in best.summary()
+    else:
+        assert best.duration < 0.95 * exact.duration and len(best.toolpath) > len(exact.toolpath)
+
+
 BOSS_CORNER = """$TC_DP1[1,1]=120 $TC_DP6[1,1]=3
 N10 G17 G90 T1 D1 G0 X0 Y-30 Z0
 N20 G1 G42 X0 Y-10 F6000
