@@ -236,7 +236,7 @@ class JerkTrajectory:
                     "engine": "casadi-ipopt",
                     "status": sol.status.value,
                     "iterations": sol.iterations,
-                    "solve_time_s": sol.solve_time_s,
+                    # no wall-clock time here: a plan's outputs are byte-identical on every rerun
                     "intervals": int(b - a),
                 }
             )
