@@ -1,7 +1,9 @@
 """An independent no-gouge check, written separately from the engine.
 
 It samples every tool-centre segment densely and measures, with its own closed-form distance
-functions, the distance to every programmed contour element in force while compensation is on.
+functions, the distance to every programmed contour element in force while compensation is on —
+except the lead-in and lead-out blocks around a closed contour (CAM output): in each chain of
+connected compensated elements that contains a closed loop, only the widest loop is the part.
 """
 
 from __future__ import annotations
@@ -52,14 +54,35 @@ def _samples(seg: Segment, step: float = 0.05) -> np.ndarray:
     return np.array([g.point(s)[:2] for s in np.linspace(0.0, g.length, n)])
 
 
+def _without_leads(contour: list[Segment], tol: float = 1e-6) -> list[Segment]:
+    """The elements of the widest closed loop of each connected chain (the whole chain if open)."""
+    chains: list[list[Segment]] = []
+    for p in contour:
+        if chains and math.dist(chains[-1][-1].geometry.end[:2], p.geometry.start[:2]) <= tol:
+            chains[-1].append(p)
+        else:
+            chains.append([p])
+    out = []
+    for chain in chains:
+        loop = None
+        for i, a in enumerate(chain):
+            start = a.geometry.start[:2]
+            closing = [j for j in range(i, len(chain)) if math.dist(chain[j].geometry.end[:2], start) <= tol]
+            if closing:
+                loop = (i, closing[-1])
+                break
+        out.extend(chain if loop is None else chain[loop[0] : loop[1] + 1])
+    return out
+
+
 def gouges(programmed: list[Segment], toolpath: list[Segment], tol: float = 1e-6) -> list[tuple]:
     """(segment index, block, worst distance, radius) for every tool-centre segment that comes
     closer than radius − tol to a programmed contour element of a compensated block."""
     blocks_on = {s.span.line for s in toolpath if s.radius > 0 and s.role in (Role.CONTOUR, Role.CORNER)}
-    contour = [
+    contour = _without_leads([
         p for p in programmed
         if p.span.line in blocks_on and p.role is Role.CONTOUR and p.geometry.plane_length > 0
-    ]
+    ])
     out = []
     for k, seg in enumerate(toolpath):
         if seg.radius <= 0 or seg.role not in (Role.CONTOUR, Role.CORNER) or seg.geometry.plane_length <= 0:

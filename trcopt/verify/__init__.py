@@ -3,7 +3,9 @@
 * :mod:`.model` — closed-form residual functions (distance to an element = radius, tangency at
   joints, no reversal of the infeed, clearance from the programmed contour); the optimisation
   problems of :mod:`trcopt.optimize` use the same functions as constraints;
-* :mod:`.plan` — :func:`verify_plan`: the largest residual of each family over a planned path.
+* :mod:`.plan` — :func:`verify_plan`: the largest residual of each family over a planned path;
+* :mod:`.contour` — the part contour, without approach/retraction and CAM lead blocks;
+* :mod:`.index` — the uniform grid that keeps the clearance check linear in the plan's length.
 """
 
 from __future__ import annotations

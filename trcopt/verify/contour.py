@@ -1,0 +1,130 @@
+"""The part contour of a plan, and the lead moves that are not part of it.
+
+The controller compensates every block between G41/G42 and G40 alike; which of them machine the
+part is the program's intent. CAM posts write a closed contour between a **lead-in** (an arc, or a
+line and an arc, into the contour's start point) and a **lead-out** (the same out of it), all
+under compensation:
+
+.. code-block:: text
+
+    N30 G1 G41 X55 Y-5        approach (activation) block
+    N40 G3 X50 Y0 CR=5        lead-in arc, tangent to the contour at its start point (50, 0)
+    N50 G1 X0 Y0 …            the closed part contour, back to (50, 0) in N90
+    N100 G3 X45 Y-5 CR=5      lead-out arc
+    N110 G1 G40 X45 Y-15      retraction (deselection) block
+
+The tool-centre path of the contour passes over the programmed lead arcs (they lie in the air
+outside the part), so they are not part contour. Within each run of compensated contour blocks,
+the **part** is the longest closed loop that starts within the first ``MAX_LEAD_BLOCKS + 1`` blocks
+and ends within the last ``MAX_LEAD_BLOCKS + 1`` (the start point of its first block is the end
+point of its last, within :data:`CLOSED_MM`); the blocks before and after it are **leads**. A run
+that does not close this way (an open profile) is part contour throughout, as before.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from trcopt.path import Role, Segment
+
+__all__ = ["CLOSED_MM", "MAX_LEAD_BLOCKS", "ContourBlocks", "contour_blocks", "part_contour"]
+
+MAX_LEAD_BLOCKS = 3  # lead-in (lead-out) blocks at most: a line, an arc, and one more
+CLOSED_MM = 1e-5  # a contour closes when its end point is within this of its start point, mm
+
+
+@dataclass(frozen=True, slots=True)
+class ContourBlocks:
+    """The programmed elements of the compensated blocks, split into part contour and leads.
+
+    Attributes
+    ----------
+    compensated:
+        Programmed elements of every block whose tool-centre path is a compensated contour, plus
+        blocks in between without any tool-centre segment (omitted by collision detection).
+    part:
+        ``compensated`` without the lead blocks.
+    lead_lines:
+        Source lines of the lead-in and lead-out blocks.
+    """
+
+    compensated: list[Segment]
+    part: list[Segment]
+    lead_lines: frozenset[int]
+
+
+def _runs(toolpath: Sequence[Segment], tool_lines: set[int], by_line: dict[int, list[Segment]]) -> list[list[int]]:
+    """Source lines of each run of consecutive compensated contour segments, in order, with the
+    omitted blocks in between; only lines with programmed contour elements."""
+    runs: list[list[int]] = []
+    run: list[int] = []
+    last = None
+    for seg in toolpath:
+        if not (seg.radius > 0.0 and seg.role in (Role.CONTOUR, Role.CORNER)):
+            if run:
+                runs.append(run)
+            run, last = [], None
+            continue
+        line = seg.span.line
+        if line == last:
+            continue
+        if last is not None and line > last + 1:
+            run.extend(ln for ln in range(last + 1, line) if ln not in tool_lines and ln in by_line)
+        if line in by_line and line not in run[-1:]:
+            run.append(line)
+        last = line
+    if run:
+        runs.append(run)
+    return runs
+
+
+def _leads(blocks: list[int], by_line: dict[int, list[Segment]]) -> list[int]:
+    """The lead blocks of one run (empty when the run is not a closed loop with leads)."""
+    m = len(blocks)
+    starts = [by_line[b][0].geometry.start for b in blocks]
+    ends = [by_line[b][-1].geometry.end for b in blocks]
+    for i in range(min(MAX_LEAD_BLOCKS + 1, m)):
+        for j in range(m - 1, max(i, m - 1 - MAX_LEAD_BLOCKS) - 1, -1):
+            if math.hypot(starts[i][0] - ends[j][0], starts[i][1] - ends[j][1]) <= CLOSED_MM:
+                return blocks[:i] + blocks[j + 1 :]
+    return []
+
+
+def contour_blocks(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> ContourBlocks:
+    """Split the programmed contour of the compensated blocks into part contour and leads.
+
+    Parameters
+    ----------
+    programmed, toolpath:
+        ``PlanResult.programmed`` and ``PlanResult.toolpath``.
+
+    Returns
+    -------
+    ContourBlocks
+        Approach and retraction (activation, deselection, SAR) blocks are in none of its lists:
+        their tool-centre moves are checked by the informational ``lead_clearance``, as are the
+        lead blocks'.
+    """
+    on_lines = {s.span.line for s in toolpath if s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER)}
+    lo, hi = (min(on_lines), max(on_lines)) if on_lines else (1, 0)
+    tool_lines = {s.span.line for s in toolpath}
+    part_lines = on_lines | {ln for ln in range(lo, hi + 1) if ln not in tool_lines}
+    compensated = [
+        p
+        for p in programmed
+        if p.span.line in part_lines and p.role in (Role.CONTOUR, Role.RAPID) and p.geometry.plane_length > 0.0
+    ]
+    by_line: dict[int, list[Segment]] = {}
+    for p in compensated:
+        by_line.setdefault(p.span.line, []).append(p)
+    leads = frozenset(ln for run in _runs(toolpath, tool_lines, by_line) for ln in _leads(run, by_line))
+    part = [p for p in compensated if p.span.line not in leads] if leads else compensated
+    return ContourBlocks(compensated, part, leads)
+
+
+def part_contour(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> list[Segment]:
+    """The part contour: programmed elements of the compensated contour blocks without the
+    approach, retraction and lead blocks (:func:`contour_blocks`)."""
+    return contour_blocks(programmed, toolpath).part

@@ -1,0 +1,126 @@
+"""A uniform-grid spatial index over plane bounding boxes, for the verification's candidate filter.
+
+The verification measures each tool-centre element against the programmed elements whose
+bounding boxes come within the tool radius of its own. Filtering all boxes for every element is
+quadratic; :class:`BoxGrid` hashes the boxes into a uniform grid once (O(n)) and answers each
+query from the cells it overlaps, so a plan costs O(n) overall for programs whose elements are of
+similar size (CAM output, generated contours). The candidates it returns are exactly those of the
+brute-force filter (the same float comparisons are applied to the cell candidates), so every
+residual computed from them is bit-identical.
+
+Boxes spanning many cells (a long line across the part) are kept in a short list that every query
+checks, so no box is copied into more than :data:`MAX_CELLS_PER_BOX` cells.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["BoxGrid", "MAX_CELLS_PER_BOX"]
+
+MAX_CELLS_PER_BOX = 64  # a box over more cells is checked by every query instead
+
+
+class BoxGrid:
+    """Uniform grid over ``boxes`` (n×4: umin, vmin, umax, vmax in mm).
+
+    Parameters
+    ----------
+    boxes:
+        Plane bounding boxes, mm (one row per element; the row number is the element's index).
+    """
+
+    def __init__(self, boxes: np.ndarray) -> None:
+        self.boxes = np.asarray(boxes, float).reshape(-1, 4)
+        n = len(self.boxes)
+        self._big = np.zeros(0, dtype=np.intp)
+        self._ids = np.zeros(0, dtype=np.intp)
+        self._starts = np.zeros(1, dtype=np.intp)
+        self.nx = self.ny = 0
+        self.origin = (0.0, 0.0)
+        self.cell = 1.0
+        if n == 0:
+            return
+        b = self.boxes
+        u0, v0 = float(b[:, 0].min()), float(b[:, 1].min())
+        width, height = float(b[:, 2].max()) - u0, float(b[:, 3].max()) - v0
+        sizes = np.maximum(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])
+        # about one element per cell: the typical element size, or the area shared out
+        cell = max(float(np.median(sizes)), math.sqrt(width * height / n), max(width, height) / n, 1e-9)
+        self.origin, self.cell = (u0, v0), cell
+        self.nx, self.ny = int(width / cell) + 1, int(height / cell) + 1
+        ix0, ix1 = self._cells(b[:, 0], self.nx, u0), self._cells(b[:, 2], self.nx, u0)
+        iy0, iy1 = self._cells(b[:, 1], self.ny, v0), self._cells(b[:, 3], self.ny, v0)
+        cx, cy = ix1 - ix0 + 1, iy1 - iy0 + 1
+        counts = cx * cy
+        big = counts > MAX_CELLS_PER_BOX
+        self._big = np.nonzero(big)[0]
+        counts = np.where(big, 0, counts)
+        total = int(counts.sum())
+        box_of = np.repeat(np.arange(n, dtype=np.intp), counts)
+        local = np.arange(total, dtype=np.intp) - np.repeat(np.cumsum(counts) - counts, counts)
+        cy_r = np.repeat(cy, counts)
+        cell_of = (np.repeat(ix0, counts) + local // cy_r) * self.ny + np.repeat(iy0, counts) + local % cy_r
+        order = np.argsort(cell_of, kind="stable")
+        self._ids = box_of[order]
+        self._starts = np.concatenate(([0], np.cumsum(np.bincount(cell_of, minlength=self.nx * self.ny))))
+
+    def _cells(self, x: np.ndarray, n: int, origin: float) -> np.ndarray:
+        return np.clip(np.floor((x - origin) / self.cell), 0, n - 1).astype(np.intp)
+
+    def _cell(self, x: float, origin: float) -> int:
+        return math.floor((x - origin) / self.cell)
+
+    def _gather(self, u0: float, v0: float, u1: float, v1: float) -> np.ndarray:
+        """Indices of the boxes hashed into the cells that [u0, u1] × [v0, v1] overlaps (with
+        repetitions), and the big boxes."""
+        parts = [self._big]
+        if self.nx:
+            ox, oy = self.origin
+            ix0, ix1 = max(self._cell(u0, ox), 0), min(self._cell(u1, ox), self.nx - 1)
+            iy0, iy1 = max(self._cell(v0, oy), 0), min(self._cell(v1, oy), self.ny - 1)
+            starts = self._starts
+            if iy1 >= iy0:
+                for ix in range(ix0, ix1 + 1):
+                    a, b = starts[ix * self.ny + iy0], starts[ix * self.ny + iy1 + 1]
+                    if b > a:
+                        parts.append(self._ids[a:b])
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    def near(self, box: tuple[float, float, float, float], margin: float) -> np.ndarray:
+        """Indices (ascending, unique) of the boxes that come within ``margin`` (mm) of ``box``:
+        exactly those of the brute-force filter ``umin <= box.umax + margin``, … ."""
+        lo_u, lo_v, hi_u, hi_v = box[0] - margin, box[1] - margin, box[2] + margin, box[3] + margin
+        cand = self._gather(lo_u, lo_v, hi_u, hi_v)
+        if cand.size == 0:
+            return cand
+        b = self.boxes[cand]
+        keep = (b[:, 0] <= hi_u) & (b[:, 2] >= lo_u) & (b[:, 1] <= hi_v) & (b[:, 3] >= lo_v)
+        return np.unique(cand[keep])
+
+    def nearest_distance(self, p: tuple[float, float]) -> float:
+        """Smallest plane distance (mm) from ``p`` to the lower-left corners of the boxes (the
+        points of a grid built over degenerate boxes), as ``np.min(np.hypot(*(corners - p).T))``
+        computes it; ``inf`` for an empty grid."""
+        if len(self.boxes) == 0:
+            return math.inf
+        corners = self.boxes[:, :2]
+        r = self.cell
+        while True:
+            # cells a little wider than the radius, so float rounding cannot lose a point within r
+            pad = 1.001 * r + 1e-9
+            whole = self.nx == 0 or (
+                self._cell(p[0] - pad, self.origin[0]) <= 0
+                and self._cell(p[0] + pad, self.origin[0]) >= self.nx - 1
+                and self._cell(p[1] - pad, self.origin[1]) <= 0
+                and self._cell(p[1] + pad, self.origin[1]) >= self.ny - 1
+            )
+            cand = np.arange(len(corners)) if whole else self._gather(p[0] - pad, p[1] - pad, p[0] + pad, p[1] + pad)
+            if cand.size:
+                c = corners[cand]
+                d = float(np.min(np.hypot(c[:, 0] - p[0], c[:, 1] - p[1])))
+                if d <= r or whole:
+                    return d
+            r *= 2.0
