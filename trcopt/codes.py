@@ -17,6 +17,7 @@ family         meaning
 ``TH-``        toolholder with orientation capability
 ``TIMING-``    time parameterisation
 ``SOLVER-``    optimisation problems
+``VERIFY-``    the verification of a plan against the constraint model (one code per family)
 (no prefix)    usage, files and outputs: ``USAGE``, ``IO``, ``CONFIG``, …
 =============  ================================================================================
 
@@ -69,11 +70,15 @@ class Code(enum.StrEnum):
     NC_SAR_PARAM = "NC-SAR-PARAM"
     NC_TOOL_TYPE = "NC-TOOL-TYPE"
     NC_INTERNAL = "NC-INTERNAL"
+    NC_RANGE = "NC-RANGE"
+    NC_NOT_TEXT = "NC-NOT-TEXT"
+    NC_TOOL_RADIUS = "NC-TOOL-RADIUS"
     # --- compensation engine ---------------------------------------------------------------------
     TRC_CONTOUR_VIOLATION = "TRC-CONTOUR-VIOLATION"
     TRC_SIDE_CHANGE = "TRC-SIDE-CHANGE"
     TRC_ACTIVE_AT_END = "TRC-ACTIVE-AT-END"
     TRC_KONTT_BLOCK = "TRC-KONTT-BLOCK"
+    TRC_CURVE = "TRC-CURVE"
     # --- SINUMERIK SAR ---------------------------------------------------------------------------
     SAR_PREPROCESSING_STOP = "SAR-PREPROCESSING-STOP"
     # --- Heidenhain TNC --------------------------------------------------------------------------
@@ -141,6 +146,12 @@ class Code(enum.StrEnum):
     # --- optimisation ----------------------------------------------------------------------------
     SOLVER = "SOLVER"
     SOLVER_INFEASIBLE = "SOLVER-INFEASIBLE"
+    # --- verification ----------------------------------------------------------------------------
+    VERIFY_RADIUS = "VERIFY-RADIUS"
+    VERIFY_TANGENCY = "VERIFY-TANGENCY"
+    VERIFY_CONTINUITY = "VERIFY-CONTINUITY"
+    VERIFY_NO_REVERSAL = "VERIFY-NO-REVERSAL"
+    VERIFY_CLEARANCE = "VERIFY-CLEARANCE"
     # --- usage, files, outputs -------------------------------------------------------------------
     TRCOPT = "TRCOPT"
     USAGE = "USAGE"
@@ -187,11 +198,17 @@ MEANING: dict[Code, str] = {
     Code.NC_SAR_PARAM: "a SAR parameter (DISR, DISCL, DISRP, FAD) has an invalid value",
     Code.NC_TOOL_TYPE: "the tool type is not a milling tool; the compensation side check does not apply",
     Code.NC_INTERNAL: "an internal error while reading a block (a bug: please report the program)",
+    Code.NC_RANGE: "a number out of range: not finite, or a coordinate, radius or feed beyond the bounds of "
+    "trcopt.nc.limits (|coordinate| ≤ 1e5 mm, feed ≤ 1e8 mm/min, ≤ 1e4 turns)",
+    Code.NC_NOT_TEXT: "the program file is not a text file (NUL bytes or undecodable binary content)",
+    Code.NC_TOOL_RADIUS: "a negative tool radius ($TC_DP6, Heidenhain TOOL DEF R or tool-table R)",
     Code.TRC_CONTOUR_VIOLATION: "warning: a CDOF offset runs against its programmed element (possible contour "
     "violation); --strict makes it alarm 10751",
     Code.TRC_SIDE_CHANGE: "compensation side changed (G41↔G42) without deselecting first",
     Code.TRC_ACTIVE_AT_END: "warning: the program ends with compensation still on",
     Code.TRC_KONTT_BLOCK: "KONTT/KONTC needs a linear approach block in the plane",
+    Code.TRC_CURVE: "a KONTT/KONTC polynomial or DISC transition needs more samples than "
+    "trcopt.geometry.poly.MAX_CURVE_SAMPLES (a degenerate or extreme curve)",
     Code.SAR_PREPROCESSING_STOP: "a preprocessing stop between a SAR block and its tangent block (no alarm number "
     "in the manuals)",
     Code.HH_SYNTAX: "a Klartext block or APPR/DEP parameter cannot be read",
@@ -255,6 +272,15 @@ MEANING: dict[Code, str] = {
     Code.TIMING_JERK_SOLVER: "IPOPT failed on a jerk-limited section (the acceleration-limited feed is kept)",
     Code.SOLVER: "an optimisation problem failed",
     Code.SOLVER_INFEASIBLE: "an optimisation problem is infeasible (the binding constraint is named)",
+    Code.VERIFY_RADIUS: "warning (--strict: error): a compensated tool-centre element is not at the tool radius "
+    "from its programmed element",
+    Code.VERIFY_TANGENCY: "warning (--strict: error): a tool-centre joint that must be tangent is not, or an "
+    "offset element runs against its programmed element",
+    Code.VERIFY_CONTINUITY: "warning (--strict: error): consecutive tool-centre segments do not meet",
+    Code.VERIFY_NO_REVERSAL: "warning (--strict: error): the infeed reverses its direction during an approach or "
+    "retraction",
+    Code.VERIFY_CLEARANCE: "warning (--strict: error): the tool comes closer than its radius to the part contour "
+    "(a gouge; lead-in/out blocks and approach/retraction moves are not part contour)",
     Code.TRCOPT: "an error without a more specific code",
     Code.USAGE: "a command-line or API argument is invalid (the valid options are listed)",
     Code.IO: "a file cannot be read",
@@ -276,6 +302,7 @@ _FAMILIES = {
     "TH": "toolholder",
     "TIMING": "timing",
     "SOLVER": "optimisation",
+    "VERIFY": "verification",
 }
 
 

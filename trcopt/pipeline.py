@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from trcopt.codes import Code
+from trcopt.codes import Code, family
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
@@ -50,9 +50,11 @@ class PlanOptions:
         Compute the time-optimal feed profile and cycle time.
     verify:
         Check the tool-centre path against the constraint model (radius, tangency, continuity,
-        no reversal of the infeed, clearance) and report the largest residual of each family.
+        no reversal of the infeed, clearance) and report the largest residual of each family; a
+        family over tolerance is a ``VERIFY-…`` warning at the block of its worst segment.
     strict:
-        Treat possible contour violations (CDOF reversed elements) as alarm 10751.
+        Treat possible contour violations (CDOF reversed elements) as alarm 10751, and a failed
+        verification family as an error (``ok`` False, exit code 1).
     tool_table, tool_unit:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
         heidenhain); by default the readers look beside the program.
@@ -187,7 +189,9 @@ class PlanResult:
             if note:
                 lines.append(note)
         n_err, n_warn = len(self.errors), len(self.warnings)
-        lines.append(f"{n_err} alarm(s), {n_warn} warning(s)" + ("" if self.ok else " — stopped at the alarm"))
+        stopped = any(family(d.code) != "verification" for d in self.errors)
+        tail = "" if self.ok else " — stopped at the alarm" if stopped else " — the verification failed (strict)"
+        lines.append(f"{n_err} alarm(s), {n_warn} warning(s)" + tail)
         return "\n".join(lines)
 
 
@@ -235,6 +239,9 @@ def plan(
 
         result.verification = verify_plan(programmed, toolpath, moves, settings)
         result.extra["verification"] = result.verification.to_json()
+        # a failed family is a warning (an error under strict) at its worst block
+        result.diagnostics.extend(result.verification.diagnostics(strict=opts.strict))
+        result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     exact_toolpath = toolpath
     if opts.corners != corner_strategies.EXACT and toolpath and result.ok:
         from trcopt.optimize.corners.blend import blend_corners
@@ -374,14 +381,13 @@ def _timing_warning(result: PlanResult, exc: TrcoptError, what: str) -> None:
 
 
 def plan_file(path: str | Path, options: PlanOptions | None = None) -> PlanResult:
-    """Plan a part program file; an unreadable file raises :class:`TrcoptError` (code ``IO``)."""
+    """Plan a part program file; an unreadable file raises :class:`TrcoptError` (code ``IO``), a
+    file that is not text (:func:`trcopt.nc.text.decode_program`) one with code ``NC-NOT-TEXT``."""
+    from trcopt.nc.text import decode_program
+
     p = Path(path)
     try:
         raw = p.read_bytes()
     except OSError as exc:
         raise TrcoptError(f"cannot read {p}: {exc.strerror}", code=Code.IO) from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        text = raw.decode("latin-1")
-    return plan(text, file=str(path), options=options)
+    return plan(decode_program(raw, str(path)), file=str(path), options=options)

@@ -69,3 +69,17 @@ def test_bytes_failure_during_replace_keeps_the_old_file(tmp_path, monkeypatch):
     assert info.value.path == str(p)
     assert p.read_bytes() == b"complete old file"
     assert os.listdir(tmp_path) == ["a.png"]
+
+
+def test_ctrl_c_during_the_write_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch):
+    p = tmp_path / "feed.csv"
+    p.write_text("complete old file")
+
+    def interrupted(fd):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(os, "fsync", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_text_atomic(p, "t_s,s_mm\n0,0\n")
+    assert p.read_text() == "complete old file"
+    assert os.listdir(tmp_path) == ["feed.csv"]

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
-from trcopt.errors import Severity
+from trcopt.errors import Severity, TimingError, TrcoptError
 from trcopt.modes import ToolUnit, parse_enum
 from trcopt.optimize.corners import strategies as corner_strategies
 
@@ -41,7 +41,10 @@ def _add_reading_arguments(p: argparse.ArgumentParser) -> None:
         "--tool-unit", default=ToolUnit.INCH.value, choices=[u.value for u in ToolUnit],
         help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
     )
-    p.add_argument("--strict", action="store_true", help="possible contour violations become alarm 10751")
+    p.add_argument(
+        "--strict", action="store_true",
+        help="possible contour violations become alarm 10751, a failed verification (VERIFY-…) an error",
+    )
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -148,6 +151,9 @@ def run_plan(args: argparse.Namespace) -> int:
     from trcopt.io import dumps_plan, toolpath_to_gcode, write_text_atomic
     from trcopt.pipeline import plan_file
 
+    if (args.csv or args.png) and args.no_timing:
+        err("--csv/--png need the timing stage (drop --no-timing)")
+        return EXIT_USAGE
     opts = _options(args)
     result = plan_file(args.program, opts)
     _print_diagnostics(result)
@@ -173,22 +179,35 @@ def run_plan(args: argparse.Namespace) -> int:
         outputs.append(
             (args.svg, lambda: render_svg(result.programmed, result.toolpath, result.diagnostics, title=args.program))
         )
-    rendered = [(path, make()) for path, make in outputs]
+    try:
+        rendered = [(path, make()) for path, make in outputs]
+    except TrcoptError as exc:  # e.g. a non-finite number in the plan JSON (the message names the key)
+        err(f"{args.program}: {exc}")
+        return EXIT_USAGE
     for path, text in rendered:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         write_text_atomic(path, text)
     if args.csv or args.png:
         if result.timing is None:
-            err("--csv/--png need the timing stage (drop --no-timing; see the diagnostics above)")
+            # the program stopped at an alarm before any motion, has no motion, or its timing
+            # failed (a warning says why): there is no feed profile to write
+            print(
+                f"{args.program}: note: --csv/--png not written: no feed profile was computed "
+                "(see the diagnostics above)"
+            )
+            return EXIT_OK if result.ok else EXIT_ALARM
+        try:
+            if args.csv:
+                from trcopt.io.feed_csv import write_feed_csv
+
+                write_feed_csv(result.timing, args.csv)
+            if args.png:
+                from trcopt.io.plot import plot_speed
+
+                plot_speed(result.timing, args.png)
+        except TimingError as exc:  # a cycle too long to sample (nothing was written)
+            err(f"{args.program}: --csv/--png: {exc}")
             return EXIT_USAGE
-        if args.csv:
-            from trcopt.io.feed_csv import write_feed_csv
-
-            write_feed_csv(result.timing, args.csv)
-        if args.png:
-            from trcopt.io.plot import plot_speed
-
-            plot_speed(result.timing, args.png)
     return EXIT_OK if result.ok else EXIT_ALARM
 
 

@@ -11,13 +11,16 @@ from __future__ import annotations
 
 import enum
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from trcopt.codes import Code
 from trcopt.compensation.elements import Elem, ElemKind, Piece
 from trcopt.config import TrcSettings
+from trcopt.errors import AlarmError, Diagnostic, Severity
 from trcopt.geometry import vec
 from trcopt.geometry.intersect import intersections
-from trcopt.geometry.poly import Poly, conic_curve, hermite_curve
+from trcopt.geometry.poly import Poly, SamplingError, conic_curve, hermite_curve
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec2
 from trcopt.modes import CornerMode
@@ -113,7 +116,7 @@ def outside_corner(
     w = a.prog.end[2]
     carrier: Arc | Poly
     if disc > 0:
-        carrier = transition_conic(k, q0, q2, radius, delta, disc, w)
+        carrier = _curve(a, lambda: transition_conic(k, q0, q2, radius, delta, disc, w))
     else:
         carrier = Arc(k, radius, math.atan2(q0[1] - k[1], q0[0] - k[0]), delta, w, w)
     owner = a if arc_owner_is_a else b
@@ -126,6 +129,15 @@ def outside_corner(
 def behind(p_ref: Vec2, p_other: Vec2, tangent: Vec2, side: int) -> bool:
     """Spec R14: the start (end) point lies behind the contour."""
     return side * vec.cross(tangent, vec.sub(p_other, p_ref)) < 0.0
+
+
+def _curve(owner: Elem, make: Callable[[], Poly]) -> Poly:
+    """The KONTT/KONTC polynomial or DISC conic ``make`` builds; a curve the sampler cannot resolve
+    within ``MAX_CURVE_SAMPLES`` (a degenerate or extreme one) is an alarm at ``owner``'s block."""
+    try:
+        return make()
+    except SamplingError as exc:
+        raise AlarmError(Diagnostic(Severity.ERROR, Code.TRC_CURVE, str(exc), owner.span)) from None
 
 
 def approach_polynomial(a: Elem, b: Elem, curvature_continuous: bool) -> Piece:
@@ -143,9 +155,9 @@ def approach_polynomial(a: Elem, b: Elem, curvature_continuous: bool) -> Piece:
         kappa = off.curvature2(0.0) if isinstance(off, Arc) else 0.0
         n = vec.rot90(off.start_tangent())
         a1 = (chord * chord * kappa * n[0], chord * chord * kappa * n[1], 0.0)
-        poly = hermite_curve(p0, d0, s3, d1, (0.0, 0.0, 0.0), a1, label="KONTC")
+        poly = _curve(b, lambda: hermite_curve(p0, d0, s3, d1, (0.0, 0.0, 0.0), a1, label="KONTC"))
     else:
-        poly = hermite_curve(p0, d0, s3, d1, label="KONTT")
+        poly = _curve(b, lambda: hermite_curve(p0, d0, s3, d1, label="KONTT"))
     return Piece(a, Role.APPROACH, 0.0, 1.0, main=False, carrier=poly)
 
 
@@ -164,9 +176,9 @@ def retract_polynomial(a: Elem, b: Elem, curvature_continuous: bool) -> Piece:
         kappa = off.curvature2(1.0) if isinstance(off, Arc) else 0.0
         n = vec.rot90(off.end_tangent())
         a0 = (chord * chord * kappa * n[0], chord * chord * kappa * n[1], 0.0)
-        poly = hermite_curve(e3, d0, t3, d1, a0, (0.0, 0.0, 0.0), label="KONTC")
+        poly = _curve(b, lambda: hermite_curve(e3, d0, t3, d1, a0, (0.0, 0.0, 0.0), label="KONTC"))
     else:
-        poly = hermite_curve(e3, d0, t3, d1, label="KONTT")
+        poly = _curve(b, lambda: hermite_curve(e3, d0, t3, d1, label="KONTT"))
     return Piece(b, Role.RETRACT, 0.0, 1.0, main=False, carrier=poly)
 
 

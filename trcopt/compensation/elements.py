@@ -24,9 +24,12 @@ from trcopt.geometry.vec import Vec2
 from trcopt.nc.model import CompState, Move, MoveKind
 from trcopt.path import Geometry, Role
 
-__all__ = ["ElemKind", "Elem", "Piece", "make_programmed_geometry"]
+__all__ = ["ElemKind", "Elem", "Piece", "make_programmed_geometry", "MIN_OFFSET_RADIUS_MM"]
 
 LAM_TOL = 1e-9
+# an offset circle at most this large (mm) is a point: the inside arc has the tool's radius (to
+# rounding); treated as degenerate like a negative one, it never becomes a carrier of curvature 1/r
+MIN_OFFSET_RADIUS_MM = 1e-9
 
 
 class ElemKind(enum.Enum):
@@ -96,11 +99,12 @@ class Elem:
 
     @property
     def degenerate(self) -> bool:
-        """Offset circle with radius ≤ 0 (inside arc smaller than the tool, R30)."""
+        """Offset circle with radius ≤ 0 (inside arc smaller than the tool, R30), or so small
+        (≤ :data:`MIN_OFFSET_RADIUS_MM`) that it is a point: an inside arc of the tool's radius."""
         off_start, off_end = self.off_start, self.off_end
         if not (isinstance(off_start, Arc) and isinstance(off_end, Arc)):  # the offsets of a line
             return False
-        return min(off_start.radius, off_end.radius) <= 0.0
+        return min(off_start.radius, off_end.radius) <= MIN_OFFSET_RADIUS_MM
 
     @property
     def feed(self) -> float | None:

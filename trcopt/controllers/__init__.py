@@ -14,6 +14,7 @@ one folder plus one line in ``_BUILTIN`` below (or :func:`register` at run time)
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Mapping
 from pathlib import PurePath
@@ -22,8 +23,10 @@ from trcopt.config import Tolerances
 from trcopt.controllers import heidenhain, linuxcnc, siemens
 from trcopt.controllers.base import Controller
 from trcopt.modes import ToolUnit, parse_enum
+from trcopt.nc.limits import check_moves
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import NcProgram
+from trcopt.nc.text import decode_program
 from trcopt.nc.tools import ToolEdge
 
 __all__ = ["Controller", "names", "dialects", "get", "detect", "register", "unregister", "read_program"]
@@ -98,7 +101,8 @@ def read_program(
 
     Never raises for a problem in the program: the returned :class:`~trcopt.nc.model.NcProgram`
     carries an error-severity diagnostic (with file, line, column and block number) and its moves
-    stop before the offending block; warnings are collected and reading continues.
+    stop before the offending block; warnings are collected and reading continues. A file that
+    is not text raises :class:`~trcopt.errors.TrcoptError` (code ``NC-NOT-TEXT``).
 
     Parameters
     ----------
@@ -123,8 +127,8 @@ def read_program(
     """
     if isinstance(source, os.PathLike):
         path = os.fspath(source)
-        with open(path, encoding="utf-8", errors="replace") as fh:
-            text = fh.read()
+        with open(path, "rb") as fh:
+            text = decode_program(fh.read(), path)
         file = file or path
     else:
         text = source
@@ -138,4 +142,9 @@ def read_program(
         tool_table=tool_table,
         tool_unit=parse_enum(ToolUnit, tool_unit, "tool unit"),
     )
-    return controller.read(text, options)
+    program = controller.read(text, options)
+    # every number a move carries is finite and within trcopt.nc.limits before any stage uses it
+    moves, diagnostics = check_moves(program.moves, program.diagnostics)
+    if len(moves) == len(program.moves):
+        return program
+    return dataclasses.replace(program, moves=moves, diagnostics=diagnostics)

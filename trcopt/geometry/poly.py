@@ -20,9 +20,21 @@ from typing import Any
 from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2, Vec3
 
-__all__ = ["Poly", "hermite_curve", "conic_curve", "spiral_curve", "parametric_curve"]
+__all__ = [
+    "MAX_CURVE_SAMPLES", "SamplingError", "Poly", "hermite_curve", "conic_curve", "spiral_curve", "parametric_curve",
+]
 
 CHORD_TOL_MM = 1e-3
+# Upper bound of the adaptive sampler: a curve that needs more points to its chord tolerance is
+# degenerate or extreme (a KONTC curvature of 1e15/mm, a 1e12 mm span); it raises SamplingError
+# instead of sampling without end. The sampled curves of real programs stay below a few thousand.
+MAX_CURVE_SAMPLES = 100_000
+
+
+class SamplingError(ValueError):
+    """A curve cannot be sampled to its chord tolerance: a non-finite point, or more than
+    :data:`MAX_CURVE_SAMPLES` samples needed (geometry knows no source span; the caller that
+    built the curve reports it at its block)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -214,12 +226,19 @@ def _sample(
         pts[m] = pm
         chord_mid = tuple(0.5 * (x + y) for x, y in zip(pa, pb, strict=True))
         err = math.dist(chord_mid, pm)
+        if not math.isfinite(err):
+            raise SamplingError(f"{label}: the curve has a non-finite point at u = {m:.6g}")
         if (err > tol or depth < 3) and depth < 24:
             stack.append((m, b, depth + 1))
             stack.append((a, m, depth + 1))
         else:
             final.append(m)
             final.append(b)
+        if len(pts) > MAX_CURVE_SAMPLES:
+            raise SamplingError(
+                f"{label}: the curve needs more than {MAX_CURVE_SAMPLES} samples to a chord error of {tol:g} mm "
+                "(trcopt.geometry.poly.MAX_CURVE_SAMPLES)"
+            )
     us = sorted(set(final))
     points = [pts[u] if u in pts else f(u) for u in us]
     cum = [0.0]

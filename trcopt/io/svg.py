@@ -9,14 +9,31 @@ Segments in another plane are projected onto the drawing plane (arcs then as sam
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Sequence
-from xml.sax.saxutils import escape, quoteattr
+from xml.sax.saxutils import escape as _xml_escape
+from xml.sax.saxutils import quoteattr as _xml_quoteattr
 
 from trcopt.errors import Diagnostic, Severity
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec2
 from trcopt.path import Role, Segment
+
+# characters XML 1.0 does not allow (C0 controls other than tab, LF, CR; lone surrogates; U+FFFE/F):
+# a program's comment or a diagnostic quoting a binary byte must not make the picture unreadable
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def escape(text: str) -> str:
+    """``text`` as XML character data: markup escaped, characters XML forbids as U+FFFD."""
+    return _xml_escape(_NOT_XML.sub("\ufffd", text))
+
+
+def quoteattr(text: str) -> str:
+    """``text`` as a quoted XML attribute value (characters XML forbids as U+FFFD)."""
+    return _xml_quoteattr(_NOT_XML.sub("\ufffd", text))
+
 
 __all__ = ["render_svg", "ROLE_COLOURS", "MAX_TOOL_CIRCLES"]
 

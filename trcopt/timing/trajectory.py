@@ -27,7 +27,7 @@ from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section, axis_limits
 from trcopt.trajectory import LimitReport, Samples
 
-__all__ = ["TimedTrajectory", "sample_times"]
+__all__ = ["MAX_SAMPLES", "TimedTrajectory", "sample_times"]
 
 # the constraints binding_constraints() names, in the column order of its table of ratios
 BINDING_NAMES = (
@@ -35,10 +35,28 @@ BINDING_NAMES = (
 )
 
 
+# the most samples one call of sample_times() returns: 3.6·10⁶, one hour of cycle at 1 ms (a feed
+# CSV of ≈ 400 MB, half a minute to write). A longer cycle at that rate is refused with a
+# TimingError, not a MemoryError or a write that runs for many minutes.
+MAX_SAMPLES = 3_600_000
+
+
 def sample_times(duration: float, dt: float) -> np.ndarray:
-    """Times every ``dt`` seconds from 0 to ``duration``, both included, s."""
+    """Times every ``dt`` seconds from 0 to ``duration``, both included, s.
+
+    Raises
+    ------
+    TimingError
+        ``duration`` is not finite, or it needs more than :data:`MAX_SAMPLES` samples at ``dt``.
+    """
     if dt <= 0:
         raise ValueError("dt must be positive (s)")
+    if not np.isfinite(duration) or duration / dt + 1 > MAX_SAMPLES:
+        raise TimingError(
+            f"a cycle of {duration:.6g} s sampled every {dt:g} s needs more than {MAX_SAMPLES} samples "
+            "(trcopt.timing.trajectory.MAX_SAMPLES)",
+            code=Code.TIMING,
+        )
     n = int(np.floor(duration / dt)) + 1
     ts = np.arange(n) * dt
     if ts[-1] < duration:

@@ -34,12 +34,25 @@ LEAD_WORDS = (
 )
 
 
+def _lead_kind(blk: Block) -> str:
+    """The kind word of an APPR/DEP block (``LT``, ``LN``, ``CT``, ``LCT`` or a polar ``P…``); a
+    block without one (``DEP LEN12 F500``) is an error at the statement."""
+    parts = blk.statement.split()
+    if len(parts) < 2:
+        raise BlockError(
+            Code.HH_SYNTAX,
+            f"{parts[0]} needs its kind: LT, LN, CT, LCT (or PLT, PLN, PCT, PLCT) right after {parts[0]}",
+            blk.column,
+        )
+    return parts[1]
+
+
 class LeadBlocks(ReaderState):
     """APPR/DEP handling on top of the reader's state and word access."""
 
     def _appr_block(self, blk: Block, span: SourceSpan) -> None:
         words = self._words(blk, LEAD_WORDS)
-        kind = blk.statement.split()[1]
+        kind = _lead_kind(blk)
         if self.side is not Side.OFF:
             raise BlockError(Code.HH_SYNTAX, "APPR while radius compensation is active: program R0 first")
         comp = self._comp_word(words)
@@ -158,10 +171,14 @@ class LeadBlocks(ReaderState):
 
     def _dep_block(self, blk: Block, span: SourceSpan) -> None:
         words = self._words(blk, LEAD_WORDS - COMPENSATION_WORDS)
-        kind = blk.statement.split()[1].lstrip("P")
+        kind = _lead_kind(blk).lstrip("P")
         last = self.elems[-1] if self.elems else None
         if last is None or vec.dist(last.end[:2], self._uvw(self.pos)[:2]) > 1e-6:
             raise BlockError(Code.HH_SYNTAX, "DEP needs a preceding contour element")
+        if last.origin == "retract":
+            # the element before is a departure itself: it has left the contour, there is no
+            # contour element (and, after a DEP CT ending in its start point, no tangent) to leave
+            raise BlockError(Code.HH_SYNTAX, "DEP needs a preceding contour element, not another DEP")
         side, r = self.side, last.radius
         if side is Side.OFF:
             self._warn(

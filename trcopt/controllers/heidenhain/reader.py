@@ -36,6 +36,7 @@ from trcopt.geometry.plane import Plane
 from trcopt.modes import CornerMode, Side
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
+from trcopt.nc.text import program_lines
 
 __all__ = ["HeidenhainReader", "read_heidenhain", "read_klartext"]
 
@@ -52,7 +53,7 @@ class HeidenhainReader(MotionBlocks):
     def read(self, text: str) -> NcProgram:
         self._load_table()
         span = SourceSpan(self.file, 1, 1)
-        for lineno, raw in enumerate(text.splitlines(), start=1):
+        for lineno, raw in enumerate(program_lines(text), start=1):
             blk = lex_block(raw, lineno)
             if not blk.statement:
                 continue
@@ -65,6 +66,10 @@ class HeidenhainReader(MotionBlocks):
                 col = getattr(exc, "column", None) or blk.column
                 where = getattr(exc, "span", None) or SourceSpan(self.file, lineno, col, blk.number)
                 self._error(exc.code, exc.message, where)
+                break
+            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
+                message = f"internal error while reading this block: {exc!r}"
+                self._error(Code.NC_INTERNAL, message, SourceSpan(self.file, lineno, blk.column, blk.number))
                 break
             for e in self.elems[n_before:]:
                 e.extra.setdefault("plane", self.plane)
@@ -185,6 +190,10 @@ class HeidenhainReader(MotionBlocks):
                 for k, w in words.items()
                 if not k.startswith("#")
             }
+            if val.get("R", 0.0) < 0.0:
+                raise BlockError(
+                    Code.NC_TOOL_RADIUS, f"negative tool radius R{val['R']:g} mm in TOOL DEF {n}", words["R"].column
+                )
             self.tools[n] = HhTool(n, "", val.get("L", 0.0), val.get("R", 0.0), 0.0, 0.0)
             return
         if len(bare) < 2 or bare[1].text.upper() not in _AXIS_PLANE:

@@ -20,6 +20,7 @@ Tool table file (TOML, one table per tool number; keys as the TNC columns)::
 
 from __future__ import annotations
 
+import math
 import os
 import tomllib
 from collections.abc import Mapping
@@ -27,6 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from trcopt.errors import ConfigError
+from trcopt.nc.limits import MAX_COORDINATE_MM
 
 __all__ = [
     "HhTool",
@@ -90,6 +92,14 @@ def tool_table_from_dict(
             )
         except (TypeError, ValueError):
             raise ConfigError(f"{source}: tool.{key}: values must be numbers") from None
+        tool = table[number]
+        for name, value in (("L", tool.length), ("R", tool.radius), ("DL", tool.dl), ("DR", tool.dr)):
+            if not (math.isfinite(value) and abs(value) <= MAX_COORDINATE_MM):
+                raise ConfigError(
+                    f"{source}: tool.{key}.{name} = {value!r} is not a finite length within ±{MAX_COORDINATE_MM:g} mm"
+                )
+        if tool.radius < 0.0:
+            raise ConfigError(f"{source}: tool.{key}.R = {tool.radius:g} mm: a tool radius cannot be negative")
     return table
 
 

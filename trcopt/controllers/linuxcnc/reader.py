@@ -30,6 +30,7 @@ from trcopt.geometry.vec import Vec3
 from trcopt.modes import Side, ToolUnit
 from trcopt.nc.modal import ReadOptions, arc_centre_from_radius
 from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
+from trcopt.nc.text import program_lines
 
 __all__ = ["Rs274Reader", "read_rs274", "read_ngc"]
 
@@ -41,6 +42,7 @@ _CENTRE_LETTER = "IJK"  # centre word of x, y, z
 _IGNORED_G = {4.0, 43.0, 49.0, 54.0, 61.0, 61.1, 64.0, 80.0, 94.0}
 _IGNORED_M = {0, 1, 3, 4, 5, 7, 8, 9}
 _ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
+_BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
 
 
 class _Stop(Exception):
@@ -117,19 +119,26 @@ class Rs274Reader:
         st = _State()
         moves: list[Move] = []
         blocks = 0
-        for lineno, raw in enumerate(text.splitlines(), start=1):
+        for lineno, raw in enumerate(program_lines(text), start=1):
             line = raw.strip()
             if not line or line.startswith("%"):
                 continue
             if line.startswith("/"):
                 continue  # block delete on (LinuxCNC's default switch setting skips nothing; we skip)
             blocks += 1
-            span = SourceSpan(self.file, lineno, 1)
+            # the block number from the start, so that every error of the line carries it, also
+            # one raised before its words are read (an unclosed comment, an unreadable word)
+            number = _BLOCK_NUMBER.match(line)
+            span = SourceSpan(self.file, lineno, 1, None if number is None else f"N{int(number.group(1))}")
             try:
                 ended = self._block(line, span, st, moves)
             except _Stop as stop:
                 span = SourceSpan(self.file, lineno, stop.column, span.block)
                 self.diags.append(Diagnostic(Severity.ERROR, stop.code, stop.message, span))
+                break
+            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
+                message = f"internal error while reading this block: {exc!r}"
+                self.diags.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
                 break
             if ended:
                 break

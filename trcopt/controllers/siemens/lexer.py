@@ -104,8 +104,8 @@ _FAST_LINE = re.compile(
     re.I,
 )
 _MAX_NUMBER = 1e15
-_PREFIX = re.compile(
-    r"[ \t]*(?P<skip>/[0-9]?)?[ \t]*(?:(?P<n>[N:])(?P<nnum>\d+)(?![0-9.]))?[ \t]*"
+_PREFIX = re.compile(  # leading white space as _TOKEN's (a form feed before N50 is white space)
+    r"[ \t\r\f\v]*(?P<skip>/[0-9]?)?[ \t]*(?:(?P<n>[N:])(?P<nnum>\d+)(?![0-9.]))?[ \t]*"
     r"(?:(?P<label>[A-Z_][A-Z0-9_]*):(?!=))?",
     re.I,
 )

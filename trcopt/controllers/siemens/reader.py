@@ -28,6 +28,7 @@ from trcopt.nc.modal import (
     fail,
 )
 from trcopt.nc.model import Move, MoveKind, NcProgram, SarSpec
+from trcopt.nc.text import program_lines
 from trcopt.nc.tools import ToolTable
 
 __all__ = ["SiemensReader", "read_siemens"]
@@ -70,7 +71,7 @@ class SiemensReader(SiemensWords):
                 gc.enable()
 
     def _read(self, text: str) -> NcProgram:
-        lines = text.splitlines()
+        lines = program_lines(text)
         ended = failed = False
         for lineno, line in enumerate(lines, 1):
             try:
@@ -90,7 +91,7 @@ class SiemensReader(SiemensWords):
                 self.diagnostics.append(exc.diagnostic)
                 failed = True
                 break
-            except (ArithmeticError, ValueError, TypeError) as exc:  # a bug must not pass silently
+            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
                 span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
                 message = f"internal error while reading this block: {exc!r}"
                 self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))

@@ -297,6 +297,12 @@ class SiemensWords(WordReader):
         if name.startswith("$TC_DP") and name[6:].isdigit():
             t, d = self._index(word, span, 2)
             value = self._number(word, span)
+            if name == "$TC_DP6" and value < 0.0:
+                # the geometry radius of a milling tool cannot be negative (a negative wear
+                # $TC_DP15 or OFFN may still make R negative, which swaps the side)
+                raise fail(
+                    Code.NC_TOOL_RADIUS, f"negative tool radius {name}[{t},{d}]={value:g} mm", self._at(span, word)
+                )
             if not self.state.tools.assign(int(name[6:]), t, d, value):
                 self._unsupported(word, b, span)
                 return

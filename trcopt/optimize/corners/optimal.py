@@ -26,7 +26,7 @@ from trcopt.optimize.corners.selection import fastest
 from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite, curvature_jump_joints, find_corner_sites
 from trcopt.optimize.corners.strategies import CornerJob
 from trcopt.path import Segment
-from trcopt.verify.plan import part_contour
+from trcopt.verify.contour import part_contour
 
 __all__ = ["PARALLEL_MIN_CORNERS", "optimal_transitions"]
 

@@ -22,8 +22,8 @@ from trcopt.optimize.corners.boundary import blendable, boundary_probes, materia
 from trcopt.optimize.corners.chain import KNOT_MIN_JUMP_PER_MM
 from trcopt.optimize.corners.curves import Element, frame_back, frame_forward, joint_turn, signed_curvature
 from trcopt.path import Role, Segment
+from trcopt.verify.contour import part_contour
 from trcopt.verify.model import points_distance
-from trcopt.verify.plan import part_contour
 
 __all__ = [
     "MAX_TURN_RAD",

@@ -1,0 +1,77 @@
+"""Numbers out of range stop the program at their block (``NC-RANGE``, trcopt.nc.limits), in every
+dialect, instead of reaching the later stages (a 1e12 mm line used to exhaust memory in timing)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from trcopt.codes import Code
+from trcopt.errors import SourceSpan
+from trcopt.geometry.plane import Plane
+from trcopt.nc.limits import MAX_COORDINATE_MM, MAX_FEED_MM_S, out_of_range
+from trcopt.nc.model import CompState, Move, MoveKind
+from trcopt.pipeline import PlanOptions, plan
+
+SIEMENS = (
+    "$TC_DP1[1,1]=120 $TC_DP6[1,1]=5\nN10 G0 X0 Y0 T1 D1\nN20 G1 G41 X{x} Y10 F600\nN30 X50\nN40 G40 X60 Y0\nN50 M30\n"
+)
+HEIDENHAIN = (
+    "0 BEGIN PGM R MM\n1 TOOL DEF 1 L+50 R+5\n2 TOOL CALL 1 Z S3000\n3 L X+0 Y+0 R0 FMAX\n"
+    "4 L X{x} Y+10 RL F600\n5 L X+50 Y+10\n6 L X+60 Y+0 R0\n7 END PGM R MM\n"
+)
+RS274 = "G21 G17 G90\nN10 G0 X0 Y0\nN20 G41.1 D10 G1 X{x} Y10 F600\nN30 G1 X50\nN40 G40 G1 X60 Y0\nM2\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "file", "line", "block"),
+    [
+        (SIEMENS.format(x="1000000000000"), "p.mpf", 3, "N20"),
+        (HEIDENHAIN.format(x="+1000000000000"), "p.h", 5, "4"),
+        (RS274.format(x="1000000000000"), "p.ngc", 3, "N20"),
+    ],
+)
+def test_a_coordinate_beyond_the_bound_is_an_error_at_its_block(text: str, file: str, line: int, block: str) -> None:
+    result = plan(text, file=file, options=PlanOptions())
+    assert not result.ok
+    err = result.errors[0]
+    assert err.code is Code.NC_RANGE
+    assert (err.span.file, err.span.line, err.span.block) == (file, line, block)
+    assert err.span.column >= 1
+    assert "MAX_COORDINATE_MM" in err.message
+    assert result.timing is None or math.isfinite(result.timing.duration)
+    assert math.isfinite(result.path_length)
+
+
+def test_coordinates_within_the_bound_are_planned_as_before() -> None:
+    result = plan(SIEMENS.format(x="20"), file="p.mpf", options=PlanOptions(timing=False))
+    assert result.ok, [d.format() for d in result.errors]
+
+
+def _move(**kw: object) -> Move:
+    base: dict[str, object] = dict(
+        kind=MoveKind.LINE, start=(0.0, 0.0, 0.0), end=(1.0, 0.0, 0.0), plane=Plane.G17,
+        span=SourceSpan("p", 1, 1), feed_mm_s=10.0,
+    )
+    base.update(kw)
+    return Move(**base)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(
+    ("change", "words"),
+    [
+        (dict(end=(math.nan, 0.0, 0.0)), "not a finite"),
+        (dict(end=(0.0, math.inf, 0.0)), "not a finite"),
+        (dict(end=(0.0, 0.0, 2 * MAX_COORDINATE_MM)), "MAX_COORDINATE_MM"),
+        (dict(kind=MoveKind.ARC, center=(-2 * MAX_COORDINATE_MM, 0.0, 0.0), ccw=True), "arc centre"),
+        (dict(feed_mm_s=math.nan), "feed"),
+        (dict(feed_mm_s=2 * MAX_FEED_MM_S), "MAX_FEED_MM_S"),
+        (dict(comp=CompState(radius=math.inf)), "compensation value"),
+        (dict(turns=10**9), "MAX_TURNS"),
+    ],
+)
+def test_out_of_range_names_the_number(change: dict, words: str) -> None:
+    problem = out_of_range(_move(**change))
+    assert problem is not None and words in problem
+    assert out_of_range(_move()) is None
