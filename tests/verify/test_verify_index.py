@@ -13,11 +13,12 @@ import pytest
 from gouge import gouges
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_verify_plan import elements
 
 from trcopt.cli import main as cli_main
 from trcopt.codes import Code
 from trcopt.errors import Severity, SourceSpan
-from trcopt.geometry import Arc, Line, Plane
+from trcopt.geometry import Plane
 from trcopt.modes import Side
 from trcopt.path import Role, Segment
 from trcopt.pipeline import PlanOptions, plan, plan_file
@@ -83,6 +84,8 @@ def _both(programmed, toolpath, moves=None):
 
 # ---- the grid itself ------------------------------------------------------------------------
 
+
+
 coord = st.floats(-50, 50, allow_nan=False)
 
 
@@ -124,24 +127,8 @@ def test_big_boxes_are_not_copied_into_every_cell() -> None:
 # ---- verification: indexed == brute force ---------------------------------------------------
 
 
-@st.composite
-def elements(draw):
-    if draw(st.booleans()):
-        a = (draw(coord), draw(coord), 0.0)
-        b = (draw(coord), draw(coord), 0.0)
-        if math.dist(a[:2], b[:2]) < 0.5:
-            b = (a[0] + 1.0, a[1], 0.0)
-        return Line(a, b)
-    return Arc(
-        (draw(coord), draw(coord)),
-        draw(st.floats(0.5, 15)),
-        draw(st.floats(-math.pi, math.pi)),
-        draw(st.floats(0.2, 6.0)) * draw(st.sampled_from([1, -1])),
-    )
-
-
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.tuples(elements(), elements(), st.sampled_from([Role.CONTOUR, Role.CORNER])), min_size=1,
+@given(st.lists(st.tuples(elements(50.0), elements(50.0), st.sampled_from([Role.CONTOUR, Role.CORNER])), min_size=1,
                 max_size=25), st.floats(0.5, 6.0))
 def test_random_paths_give_identical_residuals(pairs, radius) -> None:
     programmed, toolpath = [], []

@@ -134,11 +134,10 @@ def _dense(el: Line | Arc, n: int = 4001) -> np.ndarray:
     return np.array([el.point2(t) for t in np.linspace(0.0, 1.0, n)])
 
 
-coord = st.floats(-20, 20, allow_nan=False)
-
-
 @st.composite
-def elements(draw):
+def elements(draw, extent: float = 20.0):
+    """A random line or arc with coordinates within ±extent, mm (also used by test_verify_index)."""
+    coord = st.floats(-extent, extent, allow_nan=False)
     if draw(st.booleans()):
         a = (draw(coord), draw(coord), 0.0)
         b = (draw(coord), draw(coord), 0.0)
