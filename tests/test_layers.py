@@ -177,8 +177,13 @@ def test_no_module_over_500_lines() -> None:
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         "    try: c.main(['--help'])\n"
         "    except SystemExit: pass",
+        "import trcopt.optimize.corners.strategies as s; s.get('optimal')",
+        "import trcopt.cli as c; import contextlib, io\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    try: c.main(['plan', '--help'])\n"
+        "    except SystemExit: pass",
     ],
-    ids=["import trcopt", "trcopt --help"],
+    ids=["import trcopt", "trcopt --help", "corner strategy registry", "trcopt plan --help"],
 )
 def test_cheap_entry_points_load_no_numerical_library(code: str) -> None:
     probe = code + "\nimport sys\nprint(sorted(m for m in sys.modules if m.split('.')[0] in " + repr(HEAVY) + "))"

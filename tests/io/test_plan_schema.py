@@ -14,28 +14,15 @@ import json
 import math
 from pathlib import Path
 
+import jsonschema
 import pytest
+from test_golden_problems import CASES, IDS, PROBLEMS, _program  # the golden suite, found one way
 
 from trcopt.errors import TrcoptError
 from trcopt.io import PLAN_SCHEMA, dumps_plan
 from trcopt.io.schema import plan_schema, validate_plan
 from trcopt.pipeline import PlanOptions, plan_file
 
-jsonschema = pytest.importorskip("jsonschema")
-
-PROBLEMS = Path(__file__).resolve().parents[2] / "problems"
-PROGRAM_SUFFIXES = (".mpf", ".spf", ".h", ".ngc")
-
-
-def _program(stem: Path) -> Path:
-    for suffix in PROGRAM_SUFFIXES:
-        if stem.with_suffix(suffix).exists():
-            return stem.with_suffix(suffix)
-    raise FileNotFoundError(f"no program for {stem}")
-
-
-CASES = sorted(p.with_suffix("").with_suffix("") for p in PROBLEMS.glob("*/*.expected.json"))
-IDS = [f"{c.parent.name}/{c.name}" for c in CASES]
 UNTIMED = ["siemens/ex02_square_g450", "siemens/ex06_bottleneck_cdof", "heidenhain/h07_appr_dep_lct",
            "siemens/ex12a_sar_circle_radius_negative"]
 TOOLHOLDER = sorted((PROBLEMS / "toolholder").glob("*.mpf"))

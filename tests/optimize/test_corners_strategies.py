@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -21,7 +19,6 @@ from trcopt.pipeline import PlanOptions, plan_file
 
 ROOT = Path(__file__).resolve().parents[2]
 CORNER = ROOT / "problems" / "corners" / "corner_30deg.mpf"
-HEAVY = ("numpy", "scipy", "casadi", "toppra", "osqp", "matplotlib", "ezdxf")
 
 JOBS: list[CornerJob] = []  # what the toy strategy was asked to do
 
@@ -108,20 +105,3 @@ def test_the_command_line_offers_the_registered_strategies(toy: CornerStrategy, 
         main(["plan", str(CORNER), "--corners", "smooth"])
     assert exc.value.code == 2
     assert "(choose from 'exact', 'optimal', 'arc', 'toy')" in capsys.readouterr().err
-
-
-@pytest.mark.parametrize(
-    "code",
-    [
-        "import trcopt.optimize.corners.strategies as s; s.get('optimal')",
-        "import trcopt.cli as c; import contextlib, io\n"
-        "with contextlib.redirect_stdout(io.StringIO()):\n"
-        "    try: c.main(['plan', '--help'])\n"
-        "    except SystemExit: pass",
-    ],
-    ids=["registry", "trcopt plan --help"],
-)
-def test_naming_the_strategies_loads_no_numerical_library(code: str) -> None:
-    probe = code + "\nimport sys\nprint(sorted(m for m in sys.modules if m.split('.')[0] in " + repr(HEAVY) + "))"
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, cwd=ROOT)
-    assert out.stdout.strip().splitlines()[-1] == "[]"
