@@ -61,6 +61,7 @@ class Code(enum.StrEnum):
     NC_UNSUPPORTED = "NC-UNSUPPORTED"
     NC_UNSUPPORTED_WORD = "NC-UNSUPPORTED-WORD"
     NC_UNSUPPORTED_EXPR = "NC-UNSUPPORTED-EXPR"
+    NC_PATH_CONTROL = "NC-PATH-CONTROL"
     NC_ARC_RADIUS = "NC-ARC-RADIUS"
     NC_ARC_CENTRE = "NC-ARC-CENTRE"
     NC_DISC_CLAMPED = "NC-DISC-CLAMPED"
@@ -123,6 +124,7 @@ class Code(enum.StrEnum):
     LCNC_COMP_ALREADY_ON = "LCNC-COMP-ALREADY-ON"
     LCNC_YZ_PLANE = "LCNC-YZ-PLANE"
     LCNC_ARC_AFTER_G40 = "LCNC-ARC-AFTER-G40"
+    LCNC_CONTROL_MODE = "LCNC-CONTROL-MODE"
     # --- toolholder ------------------------------------------------------------------------------
     TH_VALUE = "TH-VALUE"
     TH_CHAIN_OPEN = "TH-CHAIN-OPEN"
@@ -189,6 +191,8 @@ MEANING: dict[Code, str] = {
     Code.NC_UNSUPPORTED: "a language feature trcopt does not model (named in the message); the plan stops",
     Code.NC_UNSUPPORTED_WORD: "a word trcopt does not model; it is reported, never silently dropped",
     Code.NC_UNSUPPORTED_EXPR: "an expression trcopt cannot evaluate",
+    Code.NC_PATH_CONTROL: "a path-control word trcopt does not model exactly: the message says how the corners "
+    "are planned instead",
     Code.NC_ARC_RADIUS: "arc end point not on the circle within the end-radius tolerance, or a zero radius",
     Code.NC_ARC_CENTRE: "circular block without centre (I/J/K) or radius (CR=)",
     Code.NC_DISC_CLAMPED: "DISC above MD20220 was clamped",
@@ -252,6 +256,7 @@ MEANING: dict[Code, str] = {
     Code.LCNC_COMP_ALREADY_ON: "compensation turned on while already on",
     Code.LCNC_YZ_PLANE: "compensation in the YZ plane (G19)",
     Code.LCNC_ARC_AFTER_G40: "the move right after G40 is an arc",
+    Code.LCNC_CONTROL_MODE: "G61/G61.1/G64 while cutter radius compensation is on",
     Code.TH_VALUE: "a $TC_CARR value is invalid",
     Code.TH_CHAIN_OPEN: "warning: the toolholder's kinematic chain does not close",
     Code.TH_IGNORED_L1: "warning: l1 is ignored for a type P toolholder",

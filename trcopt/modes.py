@@ -33,6 +33,8 @@ __all__ = [
     "ApprRadius",
     "FeedReference",
     "TimingEngine",
+    "PathMode",
+    "ToleranceKind",
 ]
 
 E = TypeVar("E", bound=enum.Enum)
@@ -145,6 +147,22 @@ class TransitionKind(enum.Enum):
     QUINTIC = "quintic"  # G2 quintic Hermite curve of one corner
     SPLINE = "spline"  # G2 spline across a run of small corners or a curvature jump
     ARC = "arc"  # circular blend (G1)
+
+
+class PathMode(enum.Enum):
+    """What the path does at the end of a block (the program's path-control mode)."""
+
+    EXACT_PATH = "exact_path"  # stop at every tangent discontinuity (LinuxCNC G61; no mode programmed)
+    EXACT_STOP = "exact_stop"  # stop at every block end, tangent or not (G61.1, G60, G9)
+    BLEND = "blend"  # round the corner within a tolerance (G64 P, G641, G642, G645, CYCL DEF 32)
+
+
+class ToleranceKind(enum.Enum):
+    """How a corner tolerance is measured."""
+
+    CONTOUR = "contour"  # largest distance of the new path from the programmed path (Hausdorff)
+    VERTEX = "vertex"  # distance of the transition from the programmed corner point
+    DISTANCE = "distance"  # the transition starts and ends this far from the corner (SINUMERIK ADIS)
 
 
 class ToolUnit(enum.Enum):

@@ -44,6 +44,7 @@ class Segment:
     radius: float = 0.0
     t_start_s: float | None = None
     t_end_s: float | None = None
+    stop: bool = False  # exact stop at the end (the program's G60, G9, G61.1), also where tangent
 
     @property
     def kind(self) -> str:

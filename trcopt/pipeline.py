@@ -15,14 +15,15 @@ from trcopt.codes import Code, family
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from trcopt.modes import CornerObjective, ToolUnit, TransitionKind, parse_enum
-from trcopt.nc.model import NcProgram
+from trcopt.modes import CornerObjective, ToleranceKind, ToolUnit, TransitionKind, parse_enum
+from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
 from trcopt.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from trcopt.controllers.base import Controller
+    from trcopt.optimize.corners.records import CornerRecord
 
 __all__ = ["PlanOptions", "PlanResult", "plan", "plan_file"]
 
@@ -58,12 +59,20 @@ class PlanOptions:
     tool_table, tool_unit:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
         heidenhain); by default the readers look beside the program.
-    corners, tolerance_mm:
+    corners, tolerance_mm, tolerance_kind:
         The corner strategy by its registry name (:mod:`trcopt.optimize.corners.strategies`):
-        ``exact`` (the controller's path), or feed-optimised transitions within the contour
-        tolerance ε (mm) at every tangent discontinuity: ``optimal`` (G2 quintics by SQP/OSQP) or
-        ``arc`` (same-ε circular blends, the usual controller smoothing). Applied after the
-        verification of the exact path and before timing. An unknown name is a usage error.
+        ``program`` (the default: what the program's path-control mode makes the controller do —
+        rounding within the program's tolerance under LinuxCNC ``G64 P``, SINUMERIK
+        ``G641``/``G642``/``CYCLE832``, Heidenhain ``CYCL DEF 32``; exact stops under ``G61.1``,
+        ``G60``, ``G9``; the exact path without a mode), ``exact`` (exact stop at every corner), or
+        transitions within a tolerance at every corner: ``optimal`` (G2 quintics by SQP/OSQP) or
+        ``arc`` (same-ε circular blends, the usual controller smoothing) — within the program's
+        tolerance where it sets one, else ``tolerance_mm`` (ε, mm). On a compensated path ε bounds
+        the cut part; on an uncompensated one (G40 CAM output) the distance of the tool-centre
+        path from the programmed path, measured as ``tolerance_kind`` says (``contour``: from
+        the path, ``vertex``: from the corner point; default: the program's mode's measure, else
+        contour). Applied after the verification of the exact path and before timing. An unknown
+        name is a usage error.
     jerk:
         Replace the acceleration-limited feed by the jerk-limited one
         (:func:`trcopt.timing.jerk.jerk_limited`, CasADi/IPOPT per section, warm-started from
@@ -82,14 +91,23 @@ class PlanOptions:
     strict: bool = False
     tool_table: str | None = None
     tool_unit: ToolUnit = ToolUnit.INCH
-    corners: str = corner_strategies.EXACT
+    corners: str = corner_strategies.PROGRAM
     tolerance_mm: float = 0.01
+    tolerance_kind: ToleranceKind | None = None
     jerk: bool = False
     workers: int = 1
 
     def __post_init__(self) -> None:
         # strings are accepted here, at the boundary, and become modes
         object.__setattr__(self, "tool_unit", parse_enum(ToolUnit, self.tool_unit, "tool unit"))
+        if self.tolerance_kind is not None:
+            try:
+                kind = parse_enum(ToleranceKind, self.tolerance_kind, "--tolerance-kind")
+            except ValueError as exc:
+                raise TrcoptError(str(exc), code=Code.USAGE) from None
+            if kind is ToleranceKind.DISTANCE:
+                raise TrcoptError("--tolerance-kind: contour or vertex", code=Code.USAGE)
+            object.__setattr__(self, "tolerance_kind", kind)
         try:
             object.__setattr__(self, "corners", corner_strategies.get(self.corners).name)
         except ValueError as exc:
@@ -243,42 +261,93 @@ def plan(
         result.diagnostics.extend(result.verification.diagnostics(strict=opts.strict))
         result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     exact_toolpath = toolpath
-    if opts.corners != corner_strategies.EXACT and toolpath and result.ok:
-        from trcopt.optimize.corners.blend import blend_corners
-
-        objective = CornerObjective.JERK if opts.jerk and _has_xy_jerk(opts.machine) else CornerObjective.CURVATURE
-        blended = blend_corners(
-            toolpath,
-            programmed,
-            tolerance_mm=opts.tolerance_mm,
-            machine=opts.machine,
-            mode=opts.corners,
-            workers=opts.workers,
-            select=not opts.jerk,
-            # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
-            # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
-            objective=objective,
-            # runs of small deflections become one G2 spline in both modes (benchmarks/JERK.md)
-            chains=True,
-        )
-        result.toolpath = toolpath = blended.segments
-        result.extra["corners"] = {
-            "mode": opts.corners,
-            "tolerance_mm": opts.tolerance_mm,
-            "objective": None if blended.objective is None else blended.objective.value,
-            "blended": blended.blended,
-            "quintic": blended.count(TransitionKind.QUINTIC),
-            "spline": blended.count(TransitionKind.SPLINE),
-            "curvature_jumps": blended.curvature_jumps,
-            "arc": blended.count(TransitionKind.ARC),
-            "max_deviation_mm": blended.max_deviation_mm,
-        }
+    if toolpath and result.ok:
+        exact_toolpath, toolpath = _corners(result, moves, opts)
+        result.toolpath = toolpath
     if opts.timing and toolpath:
         before_timing = len(result.diagnostics)
         _attach_timing(result, opts.machine, jerk=opts.jerk, workers=opts.workers)
-        if opts.jerk and toolpath is not exact_toolpath:
+        if opts.jerk and toolpath is not exact_toolpath and opts.corners != corner_strategies.PROGRAM:
             _keep_the_faster_under_jerk(result, exact_toolpath, opts, before_timing)
     return result
+
+
+def _corners(result: PlanResult, moves: list[Move], opts: PlanOptions) -> tuple[list[Segment], list[Segment]]:
+    """The exact tool path (with the program's exact stops) and the path with the corners the
+    options ask for (see :class:`PlanOptions`; the same list when no corner is rounded), and the
+    ``corners`` report in ``result.extra`` when a strategy ran."""
+    from trcopt.optimize.corners.program import merge_collinear, path_control_plan, with_stops
+
+    toolpath = result.toolpath
+    mode = opts.corners
+    if mode == corner_strategies.PROGRAM:
+        toolpath = merge_collinear(toolpath, moves)  # LinuxCNC G64 Q: the controller's own path
+    control = path_control_plan(toolpath, moves, opts.tolerance_kind)
+    if mode in (corner_strategies.PROGRAM, corner_strategies.EXACT) and control.stops:
+        toolpath = with_stops(toolpath, control.stops)
+    if mode == corner_strategies.EXACT or (mode == corner_strategies.PROGRAM and not control.blends):
+        return toolpath, toolpath
+    from trcopt.optimize.corners.blend import blend_corners
+
+    objective = CornerObjective.JERK if opts.jerk and _has_xy_jerk(opts.machine) else CornerObjective.CURVATURE
+    kinds = {s.kind for s in control.blends.values() if s.kind is not ToleranceKind.DISTANCE}
+    kind = opts.tolerance_kind or (kinds.pop() if len(kinds) == 1 else ToleranceKind.CONTOUR)
+    blended = blend_corners(
+        toolpath,
+        result.programmed,
+        tolerance_mm=opts.tolerance_mm,
+        machine=opts.machine,
+        mode=mode,
+        workers=opts.workers,
+        select=not opts.jerk,
+        # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
+        # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
+        objective=objective,
+        # runs of small deflections become one G2 spline in both modes (benchmarks/JERK.md)
+        chains=True,
+        kind=kind,
+        tolerances=control.tolerances,
+        program=control.blends,
+    )
+    records = [c for c in blended.corners if c.blended]
+    vertex = [c.vertex_mm for c in records if c.vertex_mm is not None]
+    contour = [c.contour_mm for c in records if c.contour_mm is not None]
+    tolerances = set(control.tolerances.values())
+    result.extra["corners"] = {
+        "mode": mode,
+        "tolerance_mm": opts.tolerance_mm if mode != corner_strategies.PROGRAM or not tolerances else min(tolerances),
+        "tolerance_kind": kind.value,
+        "path_control": list(control.words),
+        "objective": None if blended.objective is None else blended.objective.value,
+        "blended": blended.blended,
+        "quintic": blended.count(TransitionKind.QUINTIC),
+        "spline": blended.count(TransitionKind.SPLINE),
+        "curvature_jumps": blended.curvature_jumps,
+        "arc": blended.count(TransitionKind.ARC),
+        "max_deviation_mm": blended.max_deviation_mm,
+        "max_vertex_mm": max(vertex, default=None),
+        "max_contour_mm": max(contour, default=None),
+        "corners": [_corner_json(c, toolpath) for c in blended.corners],
+    }
+    return toolpath, blended.segments
+
+
+def _corner_json(c: CornerRecord, toolpath: list[Segment]) -> dict[str, Any]:
+    """One corner of the ``corners`` report (the joint's source block is the block that ends there)."""
+    span = toolpath[c.index].span
+    return {
+        "joint": c.index,
+        "line": span.line,
+        "block": span.block,
+        "turn_deg": round(c.turn_deg, 9),
+        "blended": c.blended,
+        "transition": None if c.transition is None else c.transition.value,
+        "tolerance_mm": c.tolerance_mm,
+        "radius_mm": c.radius_mm,
+        "vertex_mm": c.vertex_mm,
+        "contour_mm": c.contour_mm,
+        "reason": c.reason,
+    }
 
 
 def _keep_the_faster_under_jerk(

@@ -103,9 +103,9 @@ def test_exact_mode_is_identity_and_modes_are_validated(corner):
     r, _, _ = corner
     assert blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="exact").segments == list(r.toolpath)
     assert strategies.get(" ARC ").name == "arc"
-    with pytest.raises(ValueError, match="valid: exact, optimal, arc"):
+    with pytest.raises(ValueError, match="valid: program, exact, optimal, arc"):
         strategies.get("smooth")
-    with pytest.raises(ValueError, match="valid: exact, optimal, arc"):
+    with pytest.raises(ValueError, match="valid: program, exact, optimal, arc"):
         blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="smooth")
 
 

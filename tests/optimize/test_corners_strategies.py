@@ -47,13 +47,13 @@ def toy() -> Iterator[CornerStrategy]:
 
 
 def test_builtin_names_in_registration_order() -> None:
-    assert strategies.names() == ("exact", "optimal", "arc")
+    assert strategies.names() == ("program", "exact", "optimal", "arc")
     assert strategies.get(" Optimal ").name == "optimal" and strategies.EXACT == "exact"
-    assert PlanOptions().corners == "exact" and PlanOptions(corners="ARC").corners == "arc"
+    assert PlanOptions().corners == "program" and PlanOptions(corners="ARC").corners == "arc"
 
 
 def test_unknown_name_is_rejected_with_the_valid_ones() -> None:
-    message = "unknown corner strategy 'smooth'; valid: exact, optimal, arc"
+    message = "unknown corner strategy 'smooth'; valid: program, exact, optimal, arc"
     with pytest.raises(ValueError, match=f"^{message}$"):
         strategies.get("smooth")
     with pytest.raises(TrcoptError, match=f"^--corners: {message}$") as exc:
@@ -71,15 +71,20 @@ def test_registry_guards_its_names_and_the_builtins(toy: CornerStrategy) -> None
 
 
 def test_a_strategy_registered_at_run_time_runs_through_the_pipeline(toy: CornerStrategy) -> None:
-    assert strategies.names() == ("exact", "optimal", "arc", "toy")
+    assert strategies.names() == ("program", "exact", "optimal", "arc", "toy")
     exact = plan_file(CORNER, PlanOptions(timing=False))
     result = plan_file(CORNER, PlanOptions(corners="toy", tolerance_mm=0.05, timing=False))
     (job,) = JOBS
     assert job.strategy == "toy" and job.tolerance_mm == 0.05 and job.objective is CornerObjective.CURVATURE
     assert result.toolpath == exact.toolpath
-    assert result.extra["corners"] == {
+    report = dict(result.extra["corners"])
+    listed = report.pop("corners")
+    assert listed and not any(c["blended"] for c in listed)  # the toy strategy's records, none blended
+    assert report == {
         "mode": "toy",
         "tolerance_mm": 0.05,
+        "tolerance_kind": "contour",
+        "path_control": [],
         "objective": None,
         "blended": 0,
         "quintic": 0,
@@ -87,11 +92,13 @@ def test_a_strategy_registered_at_run_time_runs_through_the_pipeline(toy: Corner
         "curvature_jumps": 0,
         "arc": 0,
         "max_deviation_mm": 0.0,
+        "max_vertex_mm": None,
+        "max_contour_mm": None,
     }
     assert "corners toy within 0.05 mm: 0 blended" in result.summary()
     strategies.unregister("toy")
     try:
-        with pytest.raises(TrcoptError, match="valid: exact, optimal, arc$"):
+        with pytest.raises(TrcoptError, match="valid: program, exact, optimal, arc$"):
             PlanOptions(corners="toy")
     finally:
         strategies.register(toy)  # the fixture unregisters it
@@ -104,4 +111,4 @@ def test_the_command_line_offers_the_registered_strategies(toy: CornerStrategy, 
     with pytest.raises(SystemExit) as exc:
         main(["plan", str(CORNER), "--corners", "smooth"])
     assert exc.value.code == 2
-    assert "(choose from 'exact', 'optimal', 'arc', 'toy')" in capsys.readouterr().err
+    assert "(choose from 'program', 'exact', 'optimal', 'arc', 'toy')" in capsys.readouterr().err

@@ -62,11 +62,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--png", metavar="F", help="write a speed-profile picture (PNG or SVG by suffix)")
     p.add_argument("--no-timing", action="store_true", help="skip the time parameterisation")
     p.add_argument(
-        "--corners", default=corner_strategies.EXACT, choices=corner_strategies.names(),
-        help="corner transitions: the controller's exact path, or optimised/circular blends within --tolerance",
+        "--corners", default=corner_strategies.PROGRAM, choices=corner_strategies.names(),
+        help="corners: what the program's path-control mode does (default: program), exact stop at every "
+        "corner (exact), or circular (arc) or optimised (optimal) transitions within the program's tolerance, "
+        "else --tolerance",
     )
     p.add_argument(
-        "--tolerance", type=_positive_mm, default=0.01, help="contour tolerance for --corners, mm (default 0.01)"
+        "--tolerance", type=_positive_mm, default=0.01,
+        help="corner tolerance of --corners arc|optimal where the program sets none, mm (default 0.01)",
+    )
+    p.add_argument(
+        "--tolerance-kind", choices=("contour", "vertex"), default=None,
+        help="how a corner tolerance of a path without compensation is measured: from the programmed path "
+        "(contour) or from the corner point (vertex); default: the program's mode's, else contour",
     )
     p.add_argument(
         "--jerk", action="store_true",
@@ -101,6 +109,7 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.INCH), "tool unit"),
         corners=getattr(args, "corners", corner_strategies.EXACT),
         tolerance_mm=getattr(args, "tolerance", 0.01),
+        tolerance_kind=getattr(args, "tolerance_kind", None),
         jerk=getattr(args, "jerk", False),
         workers=getattr(args, "workers", 1),
     )

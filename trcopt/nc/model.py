@@ -21,11 +21,13 @@ from trcopt.modes import (
     CornerMode,
     LeadSegmentation,
     LeadSide,
+    PathMode,
     SarContour,
     Side,
+    ToleranceKind,
 )
 
-__all__ = ["MoveKind", "SarSpec", "CompState", "Move", "NcProgram"]
+__all__ = ["MoveKind", "SarSpec", "CompState", "PathControl", "EXACT_PATH", "Move", "NcProgram"]
 
 
 class MoveKind(enum.Enum):
@@ -85,6 +87,45 @@ class CompState:
 
 
 @dataclass(frozen=True, slots=True)
+class PathControl:
+    """The path-control mode in force at the end of a block (what the controller does at the
+    corner between this block and the next).
+
+    Attributes
+    ----------
+    mode:
+        Exact path (stop at tangent discontinuities), exact stop (stop at the block end), or blend.
+    tolerance_mm:
+        Blend: the bound of the rounding, mm, measured as ``kind`` says; None for no bound (the
+        largest blend the neighbouring blocks allow: LinuxCNC ``G64`` without ``P``).
+    kind:
+        How ``tolerance_mm`` is measured.
+    word:
+        The program's words that set the mode, as written (``"G64 P0.01"``, ``"G642 CTOL=0.01"``).
+    length_share:
+        The tolerance is at most this share of the shorter of the two moves at the corner
+        (LinuxCNC: a quarter); None for no such bound.
+    merge_mm:
+        Consecutive straight feed moves whose points all lie within this distance of one line are
+        merged into that line before blending (LinuxCNC's naive-CAM detector, ``G64 Q``).
+    """
+
+    mode: PathMode = PathMode.EXACT_PATH
+    tolerance_mm: float | None = None
+    kind: ToleranceKind = ToleranceKind.CONTOUR
+    word: str = ""
+    length_share: float | None = None
+    merge_mm: float | None = None
+
+    @property
+    def blends(self) -> bool:
+        return self.mode is PathMode.BLEND
+
+
+EXACT_PATH = PathControl()  # no mode programmed: stop at tangent discontinuities (the default)
+
+
+@dataclass(frozen=True, slots=True)
 class Move:
     """One block's motion (or a block without motion, kind NONE), in absolute workpiece mm.
 
@@ -108,6 +149,7 @@ class Move:
     sar: SarSpec | None = None
     plane_programmed: bool = True  # the block wrote at least one plane axis (R3.4, R45)
     origin: str = ""  # "approach"/"retract" for generated lead sub-moves (SAR, APPR/DEP); "" otherwise
+    control: PathControl = EXACT_PATH  # path-control mode in force at the end of the block
 
     def moves_in_plane(self, tol: float) -> bool:
         """Whether the block travels in its working plane: every arc, and a line or rapid whose

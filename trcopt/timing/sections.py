@@ -87,7 +87,8 @@ def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
 def split_sections(
     segments: Sequence[Segment], arrays: PathArrays, tangent_tol_rad: float = TANGENT_TOL_RAD
 ) -> list[Section]:
-    """Cut the path at every tangent discontinuity (3D angle > ``tangent_tol_rad``)."""
+    """Cut the path at every tangent discontinuity (3D angle > ``tangent_tol_rad``), between a rapid
+    and a feed move, and after every segment with an exact stop (:attr:`Segment.stop`)."""
     n = len(segments)
     if n == 0:
         return []
@@ -124,4 +125,5 @@ def _breaks(segments: Sequence[Segment], arrays: PathArrays, tol: float) -> np.n
         b = t_start[1:] / np.linalg.norm(t_start[1:], axis=1)[:, None]
         angle = np.arccos(np.clip((a * b).sum(axis=1), -1.0, 1.0))
     rapid = np.array([s.is_rapid for s in segments])
-    return ~(angle <= tol) | (rapid[:-1] != rapid[1:])
+    stop = np.array([s.stop for s in segments[:-1]], dtype=bool)
+    return ~(angle <= tol) | (rapid[:-1] != rapid[1:]) | stop

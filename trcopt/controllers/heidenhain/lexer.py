@@ -21,11 +21,12 @@ _TWO_WORD = {
     "TOOL": ("DEF", "CALL"),
     "BLK": ("FORM",),
     "PGM": ("CALL",),
+    "CYCL": ("DEF",),
     "APPR": ("LT", "LN", "CT", "LCT", "PLT", "PLN", "PCT", "PLCT"),
     "DEP": ("LT", "LN", "CT", "LCT", "PLT", "PLN", "PCT", "PLCT"),
 }
 STATEMENTS = frozenset(
-    {"L", "LP", "C", "CC", "CR", "CT", "CP", "CTP", "RND", "CHF", "STOP"} | set(_TWO_WORD)
+    {"L", "LP", "C", "CC", "CR", "CT", "CP", "CTP", "RND", "CHF", "STOP", "CYCL DEF"} | set(_TWO_WORD)
 )
 
 _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"

@@ -33,9 +33,9 @@ from trcopt.controllers.heidenhain.tooltable import HhTool, find_tool_table, loa
 from trcopt.errors import ConfigError, Severity, SourceSpan
 from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
-from trcopt.modes import CornerMode, Side
+from trcopt.modes import CornerMode, PathMode, Side, ToleranceKind
 from trcopt.nc.modal import ReadOptions
-from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
+from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
 from trcopt.nc.text import program_lines
 
 __all__ = ["HeidenhainReader", "read_heidenhain", "read_klartext"]
@@ -159,10 +159,44 @@ class HeidenhainReader(MotionBlocks):
         if st == "STOP":
             self._words(blk, ALLOWED_WORDS["STOP"])
             return
+        if st == "CYCL DEF":
+            self._cycle(blk, span)
+            return
         if st in _MOTION:
             self._motion(blk, self._words(blk, ALLOWED_WORDS[st]), span)
             return
         raise BlockError(Code.HH_SYNTAX, f"unknown or unsupported statement {blk.statement!r}", blk.column)
+
+    def _cycle(self, blk: Block, span: SourceSpan) -> None:
+        """``CYCL DEF 32.0 TOLERANCE`` / ``32.1 T…`` / ``32.2 HSC-MODE:… TA…``: the contour
+        tolerance of the following blocks (``32.1`` without ``T``, or ``T0``: cancelled). Other
+        cycles are not modelled and stop the program."""
+        words = blk.words
+        number = words[0].text if words else ""
+        if not number.startswith("32"):
+            raise BlockError(
+                Code.HH_SYNTAX,
+                f"CYCL DEF {number or '?'}: this cycle is not supported by trcopt",
+                words[0].column if words else blk.column,
+            )
+        if number == "32.1":
+            tol = None
+            for w in words[1:]:
+                t = w.text.upper()
+                if t.startswith("T") and t[1:]:
+                    try:
+                        tol = float(t[1:]) * self.unit
+                    except ValueError:
+                        raise BlockError(Code.HH_SYNTAX, f"invalid tolerance {w.text!r}", w.column) from None
+                    if not (tol >= 0.0 and tol < 1e5):
+                        raise BlockError(Code.HH_SYNTAX, f"invalid tolerance {w.text!r}", w.column)
+            text = " ".join(w.text for w in words)
+            control = (
+                PathControl(PathMode.BLEND, tol, ToleranceKind.CONTOUR, f"CYCL DEF {text}") if tol else EXACT_PATH
+            )
+            self.controls.append((blk.line, control))
+        elif number not in ("32.0", "32.2", "32"):
+            raise BlockError(Code.HH_SYNTAX, f"CYCL DEF {number}: unknown block of cycle 32", words[0].column)
 
     def _no_open_corner(self, what: str) -> None:
         if self.corner is not None:
@@ -254,7 +288,21 @@ class HeidenhainReader(MotionBlocks):
     def _moves(self) -> list[Move]:
         moves: list[Move] = []
         m97_before = False
+        controls = iter(self.controls)
+        change = next(controls, None)
+        control = EXACT_PATH
         for e in self.elems:
+            while change is not None and change[0] <= e.span.line:
+                control = change[1]
+                change = next(controls, None)
+            if "M90" in e.actions and not self.warned_m90:
+                self.warned_m90 = True
+                self._warn(
+                    Code.NC_PATH_CONTROL,
+                    "M90 (constant contouring speed at corners in servo-lag operation) is not modelled; "
+                    "the corners are planned with a stop as without a path-control mode",
+                    e.span,
+                )
             plane = e.extra.get("plane", self.plane)
             assert isinstance(plane, Plane)
             comp = CompState(
@@ -283,6 +331,7 @@ class HeidenhainReader(MotionBlocks):
                     e.turns,
                     actions,
                     origin=e.origin,
+                    control=control,
                 )
             )
         return moves

@@ -27,6 +27,7 @@ from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec3
 from trcopt.modes import ApprRadius, Side, parse_enum
+from trcopt.nc.model import PathControl
 
 __all__ = [
     "BlockError",
@@ -142,6 +143,8 @@ class ReaderState:
         self.appr: PendingApproach | None = None
         self.blocks = 0
         self.ended = False
+        self.controls: list[tuple[int, PathControl]] = []  # (source line, path control from there on)
+        self.warned_m90 = False
 
     def _error(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diags.append(Diagnostic(Severity.ERROR, code, message, span))

@@ -27,9 +27,9 @@ from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, l
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec3
-from trcopt.modes import Side, ToolUnit
+from trcopt.modes import PathMode, Side, ToleranceKind, ToolUnit
 from trcopt.nc.modal import ReadOptions, arc_centre_from_radius
-from trcopt.nc.model import CompState, Move, MoveKind, NcProgram
+from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
 from trcopt.nc.text import program_lines
 
 __all__ = ["Rs274Reader", "read_rs274", "read_ngc"]
@@ -39,7 +39,9 @@ _WORD = re.compile(r"([A-Za-z])\s*([-+]?\s*(?:\d+\.?\d*|\.\d+))")
 _COMMENT = re.compile(r"\([^)]*\)")
 _PLANES = {17.0: Plane.G17, 18.0: Plane.G18, 19.0: Plane.G19}
 _CENTRE_LETTER = "IJK"  # centre word of x, y, z
-_IGNORED_G = {4.0, 43.0, 49.0, 54.0, 61.0, 61.1, 64.0, 80.0, 94.0}
+_IGNORED_G = {4.0, 43.0, 49.0, 54.0, 80.0, 94.0}
+_CONTROL_G = (61.0, 61.1, 64.0)
+LCNC_BLEND_SHARE = 0.25  # a G64 blend passes at most this share of the shorter move from the corner
 _IGNORED_M = {0, 1, 3, 4, 5, 7, 8, 9}
 _ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
 _BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
@@ -65,6 +67,7 @@ class _State:
     radius_mm: float = 0.0  # signed
     selected_tool: int | None = None
     spindle_tool: int | None = None
+    control: PathControl = EXACT_PATH  # G61 (and no mode programmed); G61.1; G64 [P]
 
 
 class Rs274Reader:
@@ -226,6 +229,8 @@ class Rs274Reader:
                 st.ijk_absolute = True
             elif g == 91.1:
                 st.ijk_absolute = False
+            elif g in _CONTROL_G:
+                self._path_control(g, col, values, st)
             elif g in _IGNORED_G:
                 actions.append(f"G{g:g}")
             else:
@@ -306,10 +311,33 @@ class Rs274Reader:
                 feed,
                 actions=tuple(actions),
                 plane_programmed=plane_programmed,
+                control=st.control,
             )
         moves.append(move)
         st.pos = end_t
         return ended
+
+    def _path_control(self, g: float, col: int, values: Mapping[str, float], st: _State) -> None:
+        """G61 exact path, G61.1 exact stop, G64 blending: the blend arc passes at most ``P`` from
+        the programmed corner point and at most a quarter of the shorter move (no ``P``, or
+        ``P0``: the quarter alone) — LinuxCNC's trajectory planner (docs/continuous_path.md)."""
+        if st.side is not Side.OFF:
+            raise _Stop(Code.LCNC_CONTROL_MODE, "Cannot change control mode with cutter radius compensation on", col)
+        if g == 61.0:
+            st.control = PathControl(PathMode.EXACT_PATH, word="G61")
+        elif g == 61.1:
+            st.control = PathControl(PathMode.EXACT_STOP, word="G61.1")
+        else:
+            p = values.get("P")
+            q = values.get("Q", p)
+            if p is not None and p < 0:
+                raise _Stop(Code.NC_SYNTAX, "G64 P must not be negative", col)
+            if q is not None and q < 0:
+                raise _Stop(Code.NC_SYNTAX, "G64 Q must not be negative", col)
+            tol = p * st.unit if p else None
+            merge = q * st.unit if q else None  # the naive-CAM detector: Q defaults to P, Q0 is off
+            word = "G64" if p is None else f"G64 P{p:g}" + ("" if "Q" not in values else f" Q{q:g}")
+            st.control = PathControl(PathMode.BLEND, tol, ToleranceKind.VERTEX, word, LCNC_BLEND_SHARE, merge)
 
     def _compensation(self, g: float, values: Mapping[str, float], st: _State) -> None:
         if g == 40.0:

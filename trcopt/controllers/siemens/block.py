@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from trcopt.codes import Code
 from trcopt.controllers.siemens.lexer import Expr, Word
+from trcopt.controllers.siemens.path_control import PathControlState
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.modes import SarContour, Side
@@ -46,6 +47,7 @@ class Block:
     feed: float | None = None  # programmed F value (unit per minute)
     feed_col = 0
     dwell = False
+    exact_stop = False  # G9
     sar: tuple[SarContour, int] | None = None
     disr: float | None = None
     discl: tuple[float, bool] | None = None
@@ -72,6 +74,7 @@ class WordReader:
     carriers: dict[int, dict[int, object]]
     toolholder_events: list[dict[str, object]]
     absolute: bool
+    path: PathControlState
     geom_scale: float
     feed_scale: float
 

@@ -84,6 +84,7 @@ _TOKEN = re.compile(
      (?P<ws>[ \t\r\f\v]+)
     |(?P<comment>;.*)
     |(?P<sys>\$[A-Z_][A-Z0-9_]*)
+    |(?P<call>[A-Z_][A-Z0-9_]*)(?=\()
     |(?P<kw>(?:"""
     + _DIGIT_KEYWORDS
     + r"""))(?![A-Z0-9_.])
@@ -287,6 +288,15 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             name = m.group("name").upper()
             assigned, pos, _ = _read_value(line, pos, column, name)
             words.append(Word(name, assigned, column, line[start:pos], None, True))
+        elif kind == "call":
+            # a procedure call (``CYCLE832(0.01, 1, 1)``, ``MSG("…")``): the argument text is the
+            # subscript; the handler of the name reads it
+            name = m.group("call").upper()
+            cm = _CALL.match(line, pos)
+            if cm is None:
+                raise LexError(f"unbalanced bracket in {name}(", column)
+            pos = cm.end()
+            words.append(Word(name, None, column, line[start:pos], cm.group(0)[1:-1]))
         elif kind == "comment":
             comment = line[start + 1 :]
             break

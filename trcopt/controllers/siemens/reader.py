@@ -15,6 +15,7 @@ import math
 from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block
 from trcopt.controllers.siemens.lexer import LexedBlock, LexError, lex_line
+from trcopt.controllers.siemens.path_control import PathControlState
 from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
 from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
@@ -52,6 +53,7 @@ class SiemensReader(SiemensWords):
         self.toolholder_events: list[dict[str, object]] = []
         self.blocks = 0
         self.absolute = True  # G90
+        self.path = PathControlState()  # G60/G9/G64/G641…G645, ADIS, CTOL, CYCLE832
         self.geom_scale = 1.0  # G70/G700: inch
         self.feed_scale = 1.0  # G700: inch feeds
         self._plane_uv = Plane.G17.axes[:2]  # indices of the active plane's u and v axes
@@ -254,6 +256,7 @@ class SiemensReader(SiemensWords):
                 actions=tuple(b.actions),
                 sar=sar,
                 plane_programmed=plane_programmed,
+                control=self.path.control(kind, b.exact_stop, span, self.diagnostics),
             )
         )
         st.position = end

@@ -18,6 +18,7 @@ from collections.abc import Callable
 from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block, WordReader
 from trcopt.controllers.siemens.lexer import Expr, Word
+from trcopt.controllers.siemens.path_control import PATH_CONTROL_G, cycle832_arguments
 from trcopt.errors import AlarmError, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
 from trcopt.modes import (
@@ -125,6 +126,40 @@ class SiemensWords(WordReader):
         elif g == 4:
             b.dwell = True
             b.actions.append(word.text.upper())
+
+    def _g_path(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        """G9 (exact stop in this block) and group 10 (G60, G64, G641–G645)."""
+        if g == 9:
+            b.exact_stop = True
+        else:
+            self.path.select(g, word.text)
+        b.actions.append(word.text.upper())
+
+    def _rounding(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """ADIS=, ADISPOS= (G641 rounding distances) and CTOL= (contour tolerance), mm."""
+        value = self._number(word, span) * self.geom_scale
+        if value < 0.0:
+            raise fail(Code.NC_SYNTAX, f"{word.text}: the value must not be negative", self._at(span, word))
+        if word.name == "ADIS":
+            self.path.adis = value
+        elif word.name == "ADISPOS":
+            self.path.adispos = value
+        else:
+            self.path.ctol = value
+        b.actions.append(word.text)
+
+    def _cycle832(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """CYCLE832(_TOL, _TOLM, …): high-speed settings; trcopt models their path control."""
+        try:
+            tol, tolm = cycle832_arguments(word.subscript or "")
+        except (ValueError, KeyError) as exc:
+            raise fail(
+                Code.NC_SYNTAX,
+                f"{word.text}: invalid argument ({exc}); expected CYCLE832(tolerance, machining type, …)",
+                self._at(span, word),
+            ) from None
+        self.path.cycle832(tol * self.geom_scale, tolm, word.text)
+        b.actions.append(word.text)
 
     def _g_sar(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
         if b.sar is not None:
@@ -330,6 +365,8 @@ def _g_table() -> dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan
     modes = [*_CORNERS, *_STRATEGIES, *_SAR_SIDES, *_SAR_SEGMENTATION, 90, 91, 70, 71, 700, 710]
     for g in [*modes, 94, 95, 4]:
         table[g] = SiemensWords._g_mode
+    for g in [9, *PATH_CONTROL_G]:
+        table[g] = SiemensWords._g_path
     return table
 
 
@@ -363,6 +400,10 @@ WORD_HANDLERS: dict[str, Handler] = {
     "TCARR": SiemensWords._toolholder,
     "MSG": SiemensWords._msg,
     "RET": SiemensWords._return,
+    "ADIS": SiemensWords._rounding,
+    "ADISPOS": SiemensWords._rounding,
+    "CTOL": SiemensWords._rounding,
+    "CYCLE832": SiemensWords._cycle832,
     **{name: SiemensWords._approach for name in _APPROACH},
     **{name: SiemensWords._collision for name in _COLLISION},
     **{name: SiemensWords._toolholder for name in _TOOLHOLDER_WORDS},

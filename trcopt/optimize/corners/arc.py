@@ -1,18 +1,20 @@
-"""The ``arc`` corner strategy: the largest same-ε circular blend at every corner (G1).
+"""The ``arc`` corner strategy: the largest same-ε circular blend at every corner between two lines.
 
-The baseline of the optimised transitions, the usual controller smoothing: each tangent
-discontinuity between two lines gets the largest circle tangent to both that leaves at most ε of
-material on the cut part and does not gouge (:func:`~trcopt.optimize.corners.circular.circular_blend`);
-where the measured deviation of the whole path exceeds ε, the corner nearest the worst probe is
-tightened and the path rebuilt.
+The baseline of the optimised transitions, the usual controller smoothing, in closed form
+(:mod:`~trcopt.optimize.corners.fillet`): on a compensated path ε bounds the material left on the
+cut part (an inside corner's blend has vertex distance ε; an outside corner's blend is the
+transition circle, which leaves nothing and gouges nothing); on an uncompensated path (G40 CAM
+output) ε bounds the distance of the new path from the programmed one, measured as the job's
+tolerance kind says.
 """
 
 from __future__ import annotations
 
-from trcopt.optimize.corners.assemble import TARGET_MARGIN, TransitionPlan, fit_tolerance
+from trcopt.optimize.corners.assemble import TARGET_MARGIN
+from trcopt.optimize.corners.fillet import FilletSpec, cut_contour_spec, fillet_path, line_joints, turn_between
 from trcopt.optimize.corners.records import CornerResult
-from trcopt.optimize.corners.sites import find_corner_sites
 from trcopt.optimize.corners.strategies import CornerJob
+from trcopt.path import Role
 
 __all__ = ["arc_transitions"]
 
@@ -22,7 +24,15 @@ def arc_transitions(job: CornerJob) -> CornerResult:
     if job.tolerance_mm <= 0:
         return job.unchanged()
     segs = list(job.toolpath)
-    sites = find_corner_sites(segs, job.programmed, tolerance_mm=job.tolerance_mm)
-    # a small margin for the difference between the per-corner and the global sampling
-    eps = {k: (1.0 - TARGET_MARGIN) * job.tolerance_mm for k, _ in sites}
-    return fit_tolerance(TransitionPlan(segs, sites, eps), job.programmed, job.tolerance_mm, job.strategy)
+    specs: dict[int, FilletSpec] = {}
+    for k in line_joints(segs):
+        seg = segs[k]
+        # a small margin below ε: the closed form meets ε exactly, a sampled check may not
+        tol = (1.0 - TARGET_MARGIN) * job.tolerance_at(k)
+        if seg.radius > 0.0:
+            if seg.role not in (Role.CONTOUR, Role.CORNER) or segs[k + 1].role not in (Role.CONTOUR, Role.CORNER):
+                continue  # approach and retraction corners of a compensated path stay exact
+            specs[k] = cut_contour_spec(seg, turn_between(seg.geometry, segs[k + 1].geometry), tol)  # type: ignore[arg-type]
+        else:
+            specs[k] = FilletSpec(tol, job.kind)
+    return fillet_path(segs, specs, job.strategy)

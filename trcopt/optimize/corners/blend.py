@@ -9,14 +9,18 @@ only.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import ConfigError
-from trcopt.modes import CornerObjective, parse_enum
+from trcopt.modes import CornerObjective, ToleranceKind, parse_enum
 from trcopt.optimize.corners import strategies
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.path import Segment
+
+if TYPE_CHECKING:
+    from trcopt.optimize.corners.fillet import FilletSpec
 
 __all__ = ["blend_corners", "optimize_corners"]
 
@@ -32,6 +36,9 @@ def blend_corners(
     select: bool = True,
     objective: CornerObjective | str = CornerObjective.CURVATURE,
     chains: bool = True,
+    kind: ToleranceKind | str = ToleranceKind.CONTOUR,
+    tolerances: Mapping[int, float] | None = None,
+    program: Mapping[int, FilletSpec] | None = None,
 ) -> CornerResult:
     """Replace tangent discontinuities by transitions within the contour tolerance.
 
@@ -68,6 +75,14 @@ def blend_corners(
         ``optimal`` only: replace each run of ≥ 3 consecutive corners of ≤ 20° joined by lines
         ≤ 5 mm (CAM polylines) by one G2 spline (:mod:`trcopt.optimize.corners.chain`) instead of
         per-corner transitions; a run whose spline is infeasible keeps per-corner transitions.
+    kind:
+        How ε is measured at a corner of an uncompensated path: ``contour`` (distance from the
+        programmed path) or ``vertex`` (from the corner point).
+    tolerances:
+        ε by joint index where the program sets its own (its path-control mode).
+    program:
+        The blends of the program's path-control modes by joint (the ``program`` strategy;
+        :func:`trcopt.optimize.corners.program.path_control_plan`).
 
     Raises
     ------
@@ -96,6 +111,9 @@ def blend_corners(
         objective=objective,
         jerk_limits=jerk_limits,
         chains=chains,
+        kind=parse_enum(ToleranceKind, kind, "tolerance kind"),
+        tolerances=tolerances,
+        program=program,
     )
     return strategy.load()(job)
 

@@ -51,6 +51,11 @@ class CornerRecord:
         to say).
     transition:
         The curve that replaced the corner; None when not blended.
+    vertex_mm, contour_mm:
+        Distance of the transition from the corner point, and the largest distance of the new path
+        from the exact one (tool-centre paths), mm; None when not measured.
+    radius_mm:
+        Radius of a circular blend, mm.
     """
 
     index: int
@@ -63,6 +68,9 @@ class CornerRecord:
     solution: CornerSolution | None = None
     reason: str = ""
     transition: TransitionKind | None = None
+    vertex_mm: float | None = None
+    contour_mm: float | None = None
+    radius_mm: float | None = None
 
 
 @dataclass

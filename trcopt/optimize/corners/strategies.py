@@ -18,17 +18,24 @@ the valid ones), :func:`register` / :func:`unregister` add and remove strategies
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from trcopt.config import Machine
-from trcopt.modes import CornerObjective
+from trcopt.modes import CornerObjective, ToleranceKind
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.path import Segment
 
-__all__ = ["EXACT", "CornerJob", "CornerStrategy", "StrategyFunction", "get", "names", "register", "unregister"]
+if TYPE_CHECKING:
+    from trcopt.optimize.corners.fillet import FilletSpec
 
-EXACT = "exact"  # the strategy that keeps the controller's path (the default of --corners)
+__all__ = [
+    "EXACT", "PROGRAM", "CornerJob", "CornerStrategy", "StrategyFunction", "get", "names", "register", "unregister",
+]
+
+EXACT = "exact"  # the strategy that keeps the controller's path, exact stop at every corner
+PROGRAM = "program"  # what the program's path-control mode does (the default of --corners)
 
 
 @dataclass(frozen=True)
@@ -58,6 +65,14 @@ class CornerJob:
         ``(amax mm/s², jmax mm/s³)`` of the machine's X/Y axes for the ``jerk`` objective, else None.
     chains:
         Replace runs of small CAM corners by one G2 spline each.
+    kind:
+        How the tolerance of a corner of an uncompensated path is measured (a compensated path's
+        tolerance bounds its cut part).
+    tolerances:
+        Tolerance by joint index where the program sets its own (its path-control mode), mm;
+        ``tolerance_mm`` elsewhere.
+    program:
+        The blends of the program's path-control modes by joint index (the ``program`` strategy).
     """
 
     strategy: str
@@ -70,6 +85,15 @@ class CornerJob:
     objective: CornerObjective = CornerObjective.CURVATURE
     jerk_limits: tuple[float, float] | None = None
     chains: bool = True
+    kind: ToleranceKind = ToleranceKind.CONTOUR
+    tolerances: Mapping[int, float] | None = None
+    program: Mapping[int, FilletSpec] | None = None
+
+    def tolerance_at(self, joint: int) -> float:
+        """The tolerance of the corner at ``joint``, mm."""
+        if self.tolerances is not None:
+            return self.tolerances.get(joint, self.tolerance_mm)
+        return self.tolerance_mm
 
     def unchanged(self) -> CornerResult:
         """The exact path with no corner touched."""
@@ -107,6 +131,9 @@ class CornerStrategy:
 
 
 _BUILTIN = (
+    CornerStrategy(
+        PROGRAM, "trcopt.optimize.corners.program", "program_transitions", "the program's path-control mode"
+    ),
     CornerStrategy(EXACT, "trcopt.optimize.corners.exact", "exact_path", "the controller's path, untouched"),
     CornerStrategy("optimal", "trcopt.optimize.corners.optimal", "optimal_transitions", "G2 quintics/splines by SQP"),
     CornerStrategy("arc", "trcopt.optimize.corners.arc", "arc_transitions", "largest same-ε circular blends"),

@@ -1,0 +1,262 @@
+"""Circular blends between two lines in closed form: the controllers' rounding and the ``arc``
+strategy, at thousands of corners per second.
+
+A corner between two lines of one plane, turning by φ, gets the circle of radius ``r`` tangent
+to both; it starts ``T = r·tan(φ/2)`` before the corner point and ends ``T`` after it. How far the
+new path lies from the old one is exact:
+
+* **vertex distance** (from the corner point to the arc's midpoint): ``r·(1/cos(φ/2) − 1)``;
+* **contour distance** (the largest distance of the arc from the two lines — the Hausdorff
+  distance of the blended path from the exact one): ``r·(1 − cos(φ/2))``;
+* **rounding distance** (SINUMERIK ``ADIS``: the transition starts and ends this far from the
+  corner): ``T``.
+
+A :class:`FilletSpec` per joint says how large the blend may be: its tolerance and how that is
+measured (:class:`~trcopt.modes.ToleranceKind`; no tolerance: as large as the lines allow), and a
+largest radius. Each blend takes at most half of a line it shares with another blend and at most
+:data:`LINE_SHARE` of a line it does not, so neighbouring blends never overlap.
+
+Corners of lines on a compensated path need the cut part's view (:func:`cut_contour_spec`): at an
+inside corner (pocket-like) the cut fillet of radius ``r + R`` lies ``r·(1/cos(φ/2) − 1)`` from the
+exact cut's fillet of radius ``R`` — the vertex distance of the tool-centre blend; at an outside
+corner (the tool-centre path meets at the intersection of its offset lines, G451) every blend with
+``r ≤ R`` keeps the tool touching the programmed corner point: no material is left and nothing is
+gouged, so ``r = R`` (the transition circle) is the largest.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+from trcopt.geometry import Arc, Line
+from trcopt.modes import ToleranceKind, TransitionKind
+from trcopt.optimize.corners.records import CornerRecord, CornerResult
+from trcopt.path import Role, Segment
+
+__all__ = [
+    "LINE_SHARE",
+    "MAX_TURN_RAD",
+    "MIN_TANGENT_MM",
+    "FilletSpec",
+    "blend_distances",
+    "cut_contour_spec",
+    "fillet_path",
+    "line_joints",
+    "turn_between",
+]
+
+LINE_SHARE = 0.98  # the largest share of a line a blend may take when the line's other end is not blended
+MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
+TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
+MIN_TANGENT_MM = 1e-7  # a blend shorter than this on each line is no blend
+_W_TOL = 1e-12  # a line lies in its plane when its applicate changes by less, mm
+
+
+@dataclass(frozen=True, slots=True)
+class FilletSpec:
+    """How large the blend at one joint may be.
+
+    Attributes
+    ----------
+    tolerance_mm:
+        Bound of the blend measured as ``kind`` says, mm; None for no bound (as large as the lines
+        allow).
+    kind:
+        How ``tolerance_mm`` is measured.
+    max_radius_mm:
+        Largest blend radius, mm (the tool radius at an outside corner of a compensated path).
+    length_share:
+        The tolerance is at most this share of the shorter of the two lines (LinuxCNC's quarter);
+        None for no such bound.
+    """
+
+    tolerance_mm: float | None
+    kind: ToleranceKind = ToleranceKind.CONTOUR
+    max_radius_mm: float = math.inf
+    length_share: float | None = None
+
+    def bounded(self, length_a: float, length_b: float) -> FilletSpec:
+        """This spec with its tolerance bounded by ``length_share`` of the shorter line, mm."""
+        if self.length_share is None:
+            return self
+        cap = self.length_share * min(length_a, length_b)
+        tol = cap if self.tolerance_mm is None else min(self.tolerance_mm, cap)
+        return FilletSpec(tol, self.kind, self.max_radius_mm)
+
+    def radius(self, phi: float) -> float:
+        """The largest radius within the tolerance at a turn of ``phi`` rad (before the line lengths)."""
+        r = self.max_radius_mm
+        tol = self.tolerance_mm
+        if tol is None:
+            return r
+        half = 0.5 * phi
+        if self.kind is ToleranceKind.VERTEX:
+            c = math.cos(half)
+            return min(r, tol * c / (1.0 - c))
+        if self.kind is ToleranceKind.CONTOUR:
+            return min(r, tol / (1.0 - math.cos(half)))
+        return min(r, tol / math.tan(half))  # DISTANCE: the tangent length
+
+
+def blend_distances(radius: float, phi: float) -> tuple[float, float]:
+    """(vertex distance, contour distance) of a circular blend of ``radius`` at a turn of ``phi``, mm."""
+    c = math.cos(0.5 * phi)
+    return radius * (1.0 - c) / c, radius * (1.0 - c)
+
+
+def turn_between(a: Line, b: Line) -> float:
+    """Signed turning angle from line ``a`` to line ``b``, rad (positive = left)."""
+    ta, tb = a.direction2(), b.direction2()
+    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
+
+
+def _in_plane(g: Line) -> bool:
+    return abs(g.start[2] - g.end[2]) <= _W_TOL and g.plane_length > 1e-9
+
+
+def line_joints(segments: Sequence[Segment]) -> list[int]:
+    """The joints ``k`` (between ``segments[k]`` and ``[k + 1]``) that a circular blend can round:
+    two feed lines of one plane at one applicate, of the same compensation,
+    meeting at a turn between :data:`TANGENT_TOL_RAD` and :data:`MAX_TURN_RAD`."""
+    out = []
+    for k in range(len(segments) - 1):
+        s1, s2 = segments[k], segments[k + 1]
+        g1, g2 = s1.geometry, s2.geometry
+        if not (isinstance(g1, Line) and isinstance(g2, Line)):
+            continue
+        if s1.is_rapid or s2.is_rapid or s1.plane != s2.plane or s1.side != s2.side or s1.radius != s2.radius:
+            continue
+        if not (_in_plane(g1) and _in_plane(g2)) or abs(g1.end[2] - g2.start[2]) > _W_TOL:
+            continue
+        if math.dist(g1.end, g2.start) > 1e-9:
+            continue
+        if TANGENT_TOL_RAD < abs(turn_between(g1, g2)) <= MAX_TURN_RAD:
+            out.append(k)
+    return out
+
+
+def cut_contour_spec(seg: Segment, turn: float, tolerance_mm: float) -> FilletSpec:
+    """The blend that keeps the cut part within ``tolerance_mm`` at a corner of the compensated
+    path ``seg`` ends in (turning by ``turn`` rad): see the module description; a corner of an
+    uncompensated path bounds the path's own contour distance."""
+    if seg.radius <= 0.0:
+        return FilletSpec(tolerance_mm, ToleranceKind.CONTOUR)
+    from trcopt.optimize.corners.boundary import material_sign
+
+    inside = turn * material_sign(seg) < 0
+    if inside:
+        return FilletSpec(tolerance_mm, ToleranceKind.VERTEX)
+    return FilletSpec(None, ToleranceKind.CONTOUR, seg.radius)
+
+
+def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode: str = "arc") -> CornerResult:
+    """``segments`` with a circular blend at every joint of ``specs`` that :func:`line_joints`
+    can round (other joints are kept and recorded with the reason).
+
+    Returns the new path with one :class:`~trcopt.optimize.corners.records.CornerRecord` per joint
+    of ``specs``; ``max_deviation_mm`` is the largest distance measured as each spec says.
+    """
+    segs = list(segments)
+    ok = set(line_joints(segs))
+    wanted = sorted(specs)
+    blended = [k for k in wanted if k in ok]
+    at = set(blended)
+    records: list[CornerRecord] = []
+    cuts: dict[int, tuple[float, Arc, float, float]] = {}  # joint → (tangent length, arc, vertex, contour)
+    for k in wanted:
+        if k not in at:
+            records.append(CornerRecord(k, 0.0, False, False, specs[k].tolerance_mm or 0.0, reason=_why_not(segs, k)))
+            continue
+        s1, s2 = segs[k], segs[k + 1]
+        a, b = s1.geometry, s2.geometry
+        assert isinstance(a, Line) and isinstance(b, Line)
+        phi_signed = turn_between(a, b)
+        phi = abs(phi_signed)
+        tan_half = math.tan(0.5 * phi)
+        share_a = 0.5 if (k - 1) in at else LINE_SHARE
+        share_b = 0.5 if (k + 1) in at else LINE_SHARE
+        t_len = min(a.plane_length * share_a, b.plane_length * share_b)
+        spec = specs[k].bounded(a.length, b.length)
+        r = min(spec.radius(phi), t_len / tan_half)
+        T = r * tan_half
+        inside = s1.radius > 0.0 and _inside(s1, phi_signed)
+        if not (T >= MIN_TANGENT_MM and math.isfinite(r)):
+            records.append(CornerRecord(k, math.degrees(phi_signed), inside, False, spec.tolerance_mm or 0.0,
+                                        reason="no room for a blend"))  # fmt: skip
+            continue
+        ta, tb = a.direction2(), b.direction2()
+        J = a.end
+        A = (J[0] - T * ta[0], J[1] - T * ta[1], J[2])
+        B = (J[0] + T * tb[0], J[1] + T * tb[1], J[2])
+        sgn = 1.0 if phi_signed > 0 else -1.0
+        centre = (A[0] - sgn * r * ta[1], A[1] + sgn * r * ta[0])
+        arc = Arc.from_points(A, B, centre, sgn > 0, False)
+        vertex, contour = blend_distances(r, phi)
+        cuts[k] = (T, arc, vertex, contour)
+        records.append(
+            CornerRecord(
+                k, math.degrees(phi_signed), inside, True, spec.tolerance_mm or 0.0,
+                max_curvature=1.0 / r, span_mm=2.0 * T, transition=TransitionKind.ARC,
+                vertex_mm=vertex, contour_mm=contour, radius_mm=r,
+            )
+        )  # fmt: skip
+    out = _rebuild(segs, cuts)
+    deviation = 0.0
+    for rec in records:
+        if rec.blended and rec.vertex_mm is not None and rec.contour_mm is not None:
+            kind = specs[rec.index].kind
+            deviation = max(deviation, rec.vertex_mm if kind is ToleranceKind.VERTEX else rec.contour_mm)
+    return CornerResult(out, records, deviation, mode)
+
+
+def _inside(seg: Segment, turn: float) -> bool:
+    from trcopt.optimize.corners.boundary import material_sign
+
+    return turn * material_sign(seg) < 0
+
+
+def _why_not(segs: Sequence[Segment], k: int) -> str:
+    if k + 1 >= len(segs):
+        return "end of the path"
+    a, b = segs[k].geometry, segs[k + 1].geometry
+    if not (isinstance(a, Line) and isinstance(b, Line)):
+        return "circular blends round corners between two lines only"
+    if segs[k].is_rapid or segs[k + 1].is_rapid:
+        return "a rapid move is not blended"
+    if not (_in_plane(a) and _in_plane(b)):
+        return "a line leaves the working plane"
+    turn = abs(turn_between(a, b))
+    if turn > MAX_TURN_RAD:
+        return f"turn of {math.degrees(turn):.1f}° (near reversal): exact stop"
+    if turn <= TANGENT_TOL_RAD:
+        return "tangent joint"
+    return "not joined"
+
+
+def _rebuild(segs: list[Segment], cuts: dict[int, tuple[float, Arc, float, float]]) -> list[Segment]:
+    """The path with each line shortened by its blends' tangent lengths and the arcs inserted (role
+    ``corner``, source span and feed of the following block)."""
+    if not cuts:
+        return list(segs)
+    out: list[Segment] = []
+    for i, seg in enumerate(segs):
+        g = seg.geometry
+        before = cuts.get(i - 1)
+        after = cuts.get(i)
+        if before is None and after is None:
+            out.append(seg)
+            continue
+        assert isinstance(g, Line)
+        length = g.plane_length
+        t0 = before[0] / length if before is not None else 0.0
+        t1 = 1.0 - after[0] / length if after is not None else 1.0
+        start = before[1].end if before is not None else g.start
+        end = after[1].start if after is not None else g.end
+        if (t1 - t0) * length > 1e-9:
+            out.append(seg.with_geometry(Line(start, end)))
+        if after is not None:
+            nxt = segs[i + 1]
+            out.append(replace(nxt, geometry=after[1], role=Role.CORNER))
+    return out
