@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import math
+import re
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from trcopt import controllers
 from trcopt.errors import SourceSpan, TrcoptError
-from trcopt.geometry import Arc, Line, Plane, hermite_curve
+from trcopt.geometry import Arc, Line, Plane, hermite_curve, spiral_curve
 from trcopt.io.gcode import GcodeError, check_gcode_arcs
 from trcopt.io.gcode import toolpath_to_gcode as _to_gcode
 from trcopt.path import Role, Segment
@@ -136,11 +138,12 @@ def test_arc_over_180_degrees_stays_one_block():
     assert "N30 G3 X0 Y-10 I-10 J0 F600 ; N10 L1 contour" in text
 
 
-def test_poly_becomes_g1_chords_through_its_samples():
+def test_poly_becomes_g1_chords_through_its_samples_on_request():
     poly = hermite_curve((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), (10.0, 10.0, 0.0), (0.0, 10.0, 0.0))
-    text = toolpath_to_gcode([seg(poly, Role.CORNER, "N10", 1)], decimals=3)
+    text = toolpath_to_gcode([seg(poly, Role.CORNER, "N10", 1)], decimals=3, poly_output="chords")
     g1 = [ln for ln in body(text) if " G1 " in ln]
     assert len(g1) == len(poly.points) - 1
+    assert "CTOL" not in text and "G642" not in text and " G2 " not in text and " G3 " not in text
     assert g1[0].endswith("; N10 L1 corner")
     assert g1[-1].split()[-3:] == ["Y10", ";", "N10"] or g1[-1].split()[2].startswith(("X", "Y"))
     assert _final_position(text) == [10.0, 10.0, 0.0]
@@ -225,8 +228,6 @@ def test_property_every_written_arc_is_consistent_after_rounding(case):
 
 
 def _final_position(text: str) -> list[float]:
-    import re
-
     pos = [0.0, 0.0, 0.0]
     for ln in body(text):
         code = re.sub(r"\([^)]*\)", "", ln).split(";")[0]
@@ -239,3 +240,169 @@ def test_program_name_cannot_break_the_comment():
     text = toolpath_to_gcode([], program_name="a\nG0 X0")
     assert text.splitlines()[0] == "; trcopt tool-centre path of a G0 X0"
     assert body(text) == ["N10 G71 G90 G94 G40 G17", "N20 M30"]
+
+
+# --------------------------------------------------------------------------------------------
+# smooth curves as arcs
+# --------------------------------------------------------------------------------------------
+
+HEIDENHAIN = controllers.get("heidenhain").gcode
+
+
+def corner_transition(w: float = -2.0):
+    """Tool-centre path: a line, a quintic G2 corner transition (a Poly), a line."""
+    poly = hermite_curve((8.0, 0.0, w), (3.0, 0.0, 0.0), (10.0, 2.0, w), (0.0, 3.0, 0.0), (0.0, 0.0, 0.0),
+                         (0.0, 0.0, 0.0), "corner")
+    return poly, [
+        seg(Line((0.0, 0.0, w), (8.0, 0.0, w)), block="N10", line=1),
+        seg(poly, Role.CORNER, "N20", 2),
+        seg(Line((10.0, 2.0, w), (10.0, 20.0, w)), block="N20", line=2),
+    ]
+
+
+def written_path(text: str, plane=Plane.G17) -> np.ndarray:
+    """The path the program describes, as dense points (x, y, z): G1 lines and G2/G3 arcs (centre
+    words incremental, in ``plane``), read from the text alone."""
+    ui, vi, _ = plane.axes
+    pos: list[float] | None = None
+    motion, out = None, []
+    for ln in body(text):
+        code = re.sub(r"\([^)]*\)", "", ln).split(";")[0]
+        words = dict(re.findall(r"([XYZIJK])(-?[\d.]+)", code))
+        for g in re.findall(r"\bG(\d+)\b", code):
+            if g in ("0", "1", "2", "3"):
+                motion = g
+        end = [float(words.get(a, pos[k] if pos else 0.0)) for k, a in enumerate("XYZ")]
+        if pos is None or not any(a in words for a in "XYZ"):
+            pos = end if any(a in words for a in "XYZ") else pos
+            continue
+        if motion in ("2", "3"):
+            cu = pos[ui] + float(words.get("IJK"[ui], 0.0))
+            cv = pos[vi] + float(words.get("IJK"[vi], 0.0))
+            a0 = math.atan2(pos[vi] - cv, pos[ui] - cu)
+            a1 = math.atan2(end[vi] - cv, end[ui] - cu)
+            sweep = (a1 - a0) % (2 * math.pi) if motion == "3" else -((a0 - a1) % (2 * math.pi))
+            r = math.hypot(pos[ui] - cu, pos[vi] - cv)
+            lam = np.linspace(0.0, 1.0, max(2, math.ceil(abs(sweep) * r / 0.0005) + 1))
+            pts = np.empty((len(lam), 3))
+            pts[:, ui] = cu + r * np.cos(a0 + lam * sweep)
+            pts[:, vi] = cv + r * np.sin(a0 + lam * sweep)
+            w_axis = 3 - ui - vi
+            pts[:, w_axis] = pos[w_axis] + lam * (end[w_axis] - pos[w_axis])
+        else:
+            lam = np.linspace(0.0, 1.0, max(2, math.ceil(math.dist(pos, end) / 0.0005) + 1))
+            pts = np.array(pos) + lam[:, None] * (np.array(end) - np.array(pos))
+        out.append(pts)
+        pos = end
+    return np.vstack(out)
+
+
+def to_polyline(x: np.ndarray, c: np.ndarray) -> float:
+    """Largest distance of the points x to the polyline c (through the nearest vertex and the
+    two segments at it)."""
+    from scipy.spatial import cKDTree
+
+    keep = np.concatenate(([True], np.any(np.diff(c, axis=0) != 0.0, axis=1)))
+    c = c[keep]  # no doubled vertex (it would hide a segment)
+    _, i = cKDTree(c).query(x)
+    best = np.full(len(x), np.inf)
+    for k in (np.clip(i - 1, 0, len(c) - 2), np.clip(i, 0, len(c) - 2)):
+        ab = c[k + 1] - c[k]
+        lam = np.clip(np.sum((x - c[k]) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-300), 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(x - c[k] - lam[:, None] * ab, axis=1))
+    return float(best.max())
+
+
+def two_sided(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance of a point of one dense polyline to the other (both ways)."""
+    return max(to_polyline(a, b), to_polyline(b, a))
+
+
+def test_poly_is_written_as_tangent_arcs_with_the_siemens_path_control():
+    poly, segs = corner_transition()
+    text = toolpath_to_gcode(segs, program_name="c.mpf")
+    lines = body(text)
+    # the path-control words right after the preamble block
+    assert lines[:3] == ["N10 G71 G90 G94 G40 G17", "N20 CTOL=0.001", "N30 G642"]
+    arcs = [ln for ln in lines if " G2 " in ln or " G3 " in ln]
+    assert 2 <= len(arcs) <= len(poly.points) // 4
+    assert all(" G3 " in ln for ln in arcs)  # a left turn without inflection
+    # the source note on the first piece only
+    notes = [ln for ln in lines if ln.endswith("; N20 L2 corner")]
+    assert len(notes) == 1 and notes[0] == arcs[0]
+    assert check_gcode_arcs(text) == []
+    assert _final_position(text) == [10.0, 20.0, -2.0]
+    # the written arcs are within the fit tolerance (+ the output rounding) of the curve
+    curve = np.array([poly.point(s) for s in np.linspace(0.0, poly.length, 4000)])
+    written = written_path(text)
+    near_corner = written[(written[:, 0] > 8.0 - 1e-9) & (written[:, 1] < 2.0 + 1e-9)]
+    assert two_sided(curve, near_corner) <= 0.001 + 1e-4
+
+
+def test_poly_arcs_linuxcnc_and_a_coarser_tolerance():
+    poly, segs = corner_transition()
+    fine = toolpath_to_gcode(segs, flavor=LINUXCNC)
+    coarse = toolpath_to_gcode(segs, flavor=LINUXCNC, fit_tolerance_mm=0.02)
+    assert body(fine)[:2] == ["G21 G90 G94 G91.1 G40 G17", "G64 P0.001 Q0"]
+    assert body(coarse)[:2] == ["G21 G90 G94 G91.1 G40 G17", "G64 P0.02 Q0"]
+    count = [sum(1 for ln in body(t) if ln.startswith(("G2 ", "G3 "))) for t in (fine, coarse)]
+    assert 0 < count[1] < count[0]
+    assert check_gcode_arcs(fine) == [] and check_gcode_arcs(coarse) == []
+    curve = np.array([poly.point(s) for s in np.linspace(0.0, poly.length, 4000)])
+    written = written_path(coarse)
+    near_corner = written[(written[:, 0] > 8.0 - 1e-9) & (written[:, 1] < 2.0 + 1e-9)]
+    assert 0.005 < two_sided(curve, near_corner) <= 0.02 + 1e-4
+
+
+def test_path_control_only_with_a_poly_written_as_arcs():
+    # no Poly: the programs stay as before (see the exact-block tests above), no path-control words
+    for flavor in (SIEMENS, LINUXCNC):
+        text = toolpath_to_gcode(square_corner(), flavor=flavor)
+        assert "G64" not in text and "CTOL" not in text and "G642" not in text
+    _, segs = corner_transition()
+    text = toolpath_to_gcode(segs, flavor=LINUXCNC, poly_output="chords")
+    assert "G64" not in text and " G2 " not in text and " G3 " not in text
+    # a flavour without continuous-path words writes none, but the arcs
+    text = toolpath_to_gcode(segs, flavor=HEIDENHAIN)
+    assert body(text)[1].startswith("N20 G0 ") and " G3 " in text and check_gcode_arcs(text) == []
+
+
+def test_helical_poly_in_g18():
+    # a descending spiral in G18 (u = Z, v = X, w = Y): helical arcs with K/I words and Y moves
+    spiral = spiral_curve((0.0, 0.0), 5.0, 8.0, 0.3, 4.0, 0.0, -3.0)
+    text = toolpath_to_gcode([seg(spiral, plane=Plane.G18, block="N10", line=1)], flavor=LINUXCNC)
+    arcs = [ln for ln in body(text) if ln.startswith(("G2 ", "G3 "))]
+    assert arcs and all(" I" in ln and " K" in ln and " J" not in ln for ln in arcs)
+    assert all(" Y" in ln for ln in arcs) and check_gcode_arcs(text) == []
+    end = Plane.G18.to_xyz(spiral.end)
+    assert max(abs(p - e) for p, e in zip(_final_position(text), end, strict=True)) <= 0.5e-4 + 1e-12
+    curve = np.array([Plane.G18.to_xyz(spiral.point(s)) for s in np.linspace(0.0, spiral.length, 20000)])
+    assert two_sided(curve, written_path(text, Plane.G18)) <= 0.001 + 1e-4
+
+
+def test_invalid_poly_options():
+    for bad in (0.0, -0.001, math.nan, math.inf, "fine", None, True):
+        with pytest.raises(GcodeError, match="fit_tolerance_mm"):
+            toolpath_to_gcode([], fit_tolerance_mm=bad)
+    with pytest.raises(GcodeError, match="poly_output"):
+        toolpath_to_gcode([], poly_output="splines")
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.tuples(st.floats(-50.0, 50.0), st.floats(-50.0, 50.0)),
+    st.tuples(st.floats(-30.0, 30.0), st.floats(-30.0, 30.0)),
+    st.tuples(st.floats(-30.0, 30.0), st.floats(-30.0, 30.0)),
+    st.sampled_from(list(Plane)),
+    st.sampled_from((2, 3, 4)),
+    st.sampled_from((0.0005, 0.001, 0.01)),
+)
+def test_property_written_curve_arcs_are_consistent(p1, d0, d1, plane, decimals, tol):
+    if math.hypot(*d0) < 1e-3 or math.hypot(*d1) < 1e-3:
+        return
+    poly = hermite_curve((1.0, 2.0, 0.5), (*d0, 0.0), (1.0 + p1[0], 2.0 + p1[1], 0.5), (*d1, 0.0))
+    text = toolpath_to_gcode([seg(poly, plane=plane)], decimals=decimals, fit_tolerance_mm=tol)
+    assert check_gcode_arcs(text, tolerance_mm=0.002) == []
+    end = plane.to_xyz(poly.end)
+    pos = _final_position(text)
+    assert max(abs(p - e) for p, e in zip(pos, end, strict=True)) <= 0.5 * 10.0**-decimals + 1e-9

@@ -1,9 +1,14 @@
 """Plain tool-centre G-code (G40 only) for controllers without radius compensation.
 
 One output block per segment: ``G0`` for rapids, ``G1`` for lines, ``G2``/``G3`` for arcs and
-helices (centre words I/J/K incremental from the start point), a run of ``G1`` chords for polys.
-Every block names its source in a comment (``; N60 L6 corner`` for Siemens, ``(N60 L6 corner)``
-for RS274/LinuxCNC).
+helices (centre words I/J/K incremental from the start point). A smooth curve (:class:`Poly`:
+corner transitions, splines, lead curves) is written as a tangent-continuous chain of arcs and
+lines within ``fit_tolerance_mm`` of it (:func:`trcopt.geometry.arcfit.fit_arcs`), preceded once
+by the flavour's continuous-path words (LinuxCNC ``G64 P…``, SINUMERIK ``CTOL=…`` and ``G642``)
+so that the controller does not stop between the pieces; ``poly_output="chords"`` writes the
+curve as ``G1`` chords through its samples instead. Every block names its source in a comment
+(``; N60 L6 corner`` for Siemens, ``(N60 L6 corner)`` for RS274/LinuxCNC); the pieces of one
+segment name it on the first block only.
 
 Arcs are re-checked **after rounding**, with the numbers the controller will read: the start is
 the position last written, the end the rounded end, the centre the start plus the rounded
@@ -34,6 +39,7 @@ from trcopt.units import mm_s_to_mm_min
 __all__ = ["GcodeError", "GcodeFlavor", "toolpath_to_gcode", "check_gcode_arcs"]
 
 MAX_DECIMALS = 6
+POLY_OUTPUTS = ("arcs", "chords")
 
 
 # centre word letter for each workpiece axis (x, y, z)
@@ -67,6 +73,10 @@ class GcodeFlavor:
         incremental arc centres, compensation off).
     end:
         The program end word.
+    continuous_path:
+        Blocks that switch to continuous-path mode with a contour tolerance, written once after
+        the preamble block when a smooth curve is written as arcs; ``{tol}`` in a block is
+        replaced by the fit tolerance (mm). Empty: no such words are written.
     """
 
     name: str
@@ -75,6 +85,7 @@ class GcodeFlavor:
     decimal_point: bool
     preamble: tuple[str, ...]
     end: str
+    continuous_path: tuple[str, ...] = ()
 
     def comment(self, text: str) -> str:
         """``text`` as one comment of this flavour."""
@@ -115,6 +126,8 @@ class _Writer:
     feed: float | None = None  # last written feed, mm/min
     plane: Plane | None = None
     number: int = 0
+    fit_tolerance: float = 0.001  # largest distance of the written arcs from a Poly, mm
+    poly_output: str = "arcs"
 
     # -- block assembly -------------------------------------------------------------------------
     def comment(self, text: str) -> str:
@@ -255,6 +268,29 @@ def _arc_block(
     return w.straight("G1", end_xyz, feed_mm_s, note)
 
 
+def _close_gap(w: _Writer, seg: Segment, note: str) -> None:
+    """A straight move to the segment's start when the path has a gap there, so that an arc
+    starts where it was planned."""
+    start = seg.start_xyz
+    if math.dist([float(c) for c in w.pos], start) > max(w.tolerance, 10.0**-w.decimals):  # type: ignore[arg-type]
+        w.straight("G1", start, seg.feed_mm_s, f"gap before {note}")
+
+
+def _write_poly_arcs(w: _Writer, seg: Segment, g: Poly, note: str | None) -> None:
+    """A smooth curve as its arc fit: G2/G3 for the arcs, G1 for the lines."""
+    from trcopt.geometry.arcfit import fit_arcs  # numpy: loaded only when a curve is written
+
+    if note is not None:
+        _close_gap(w, seg, note)
+    for piece in fit_arcs(g, w.fit_tolerance):
+        if isinstance(piece, Arc):
+            written = _arc_block(w, seg.plane, piece, seg.feed_mm_s, note)
+        else:
+            written = w.straight("G1", seg.plane.to_xyz(piece.end), seg.feed_mm_s, note)
+        if written:
+            note = None  # name the source once, on the first piece
+
+
 def _write_segment(w: _Writer, seg: Segment) -> None:
     g = seg.geometry
     note: str | None = _source_note(seg)
@@ -266,15 +302,16 @@ def _write_segment(w: _Writer, seg: Segment) -> None:
         w.straight("G0" if seg.is_rapid else "G1", seg.end_xyz, seg.feed_mm_s, note)
         return
     if isinstance(g, Poly):
+        if w.poly_output == "arcs" and not seg.is_rapid:
+            _write_poly_arcs(w, seg, g, note)
+            return
         for p in g.points[1:]:
             if w.straight("G0" if seg.is_rapid else "G1", plane.to_xyz(p), seg.feed_mm_s, note):
                 note = None  # name the source once, on the first chord
         return
     if isinstance(g, Arc):
-        start = seg.start_xyz
-        if math.dist([float(c) for c in w.pos], start) > max(w.tolerance, 10.0**-w.decimals):  # type: ignore[arg-type]
-            # the path has a gap: close it so the arc starts where it was planned
-            w.straight("G1", start, seg.feed_mm_s, f"gap before {note}")
+        if note is not None:
+            _close_gap(w, seg, note)
         span = abs(g.sweep)
         pieces = 1 if span < 2 * math.pi - 1e-12 else max(2, math.ceil(span / math.pi - 1e-9))
         for piece in _split_arc(g, pieces) if pieces > 1 else [g]:
@@ -291,6 +328,8 @@ def toolpath_to_gcode(
     decimals: int = 4,
     arc_tolerance_mm: float = 0.002,
     program_name: str = "trcopt",
+    fit_tolerance_mm: float = 0.001,
+    poly_output: str = "arcs",
 ) -> str:
     """Plain tool-centre G-code (G40 only) for the tool-centre path ``segments``.
 
@@ -310,6 +349,13 @@ def toolpath_to_gcode(
         writer keeps its own arcs within half of it.
     program_name:
         Name of the source program, written in the header comment.
+    fit_tolerance_mm:
+        Largest distance (mm) between a smooth curve and the arcs written for it (both ways,
+        before rounding to ``decimals``); also the contour tolerance of the continuous-path words.
+    poly_output:
+        ``"arcs"``: a smooth curve as a tangent-continuous chain of G2/G3 arcs and G1 lines, with
+        the flavour's continuous-path words once after the preamble; ``"chords"``: as G1 chords
+        through its samples (≤ 1 µm chord error), without those words.
 
     Returns
     -------
@@ -322,17 +368,41 @@ def toolpath_to_gcode(
         raise GcodeError(f"decimals must be in 0..{MAX_DECIMALS}, got {decimals}")
     if not arc_tolerance_mm > 0.0:
         raise GcodeError(f"arc_tolerance_mm must be > 0, got {arc_tolerance_mm}")
+    fit_tol = _fit_tolerance(fit_tolerance_mm)
+    if poly_output not in POLY_OUTPUTS:
+        raise GcodeError(f"invalid poly_output {poly_output!r}; valid: {', '.join(POLY_OUTPUTS)}")
     segs = list(segments)
     w = _Writer(flavor, int(decimals), float(arc_tolerance_mm), [], [None, None, None])
+    w.fit_tolerance, w.poly_output = fit_tol, poly_output
     w.lines.append(w.comment(f"trcopt tool-centre path of {program_name}"))
     w.lines.append(w.comment("G40 only: coordinates are the tool centre, no radius compensation"))
-    first = next((s for s in segs if isinstance(s.geometry, Arc)), segs[0] if segs else None)
+    def curve_as_arcs(s: Segment) -> bool:
+        return poly_output == "arcs" and isinstance(s.geometry, Poly) and not s.is_rapid
+
+    curves = any(curve_as_arcs(s) for s in segs)
+    # the plane of the first arc (a curve written as arcs counts) goes into the preamble
+    first = next((s for s in segs if isinstance(s.geometry, Arc) or curve_as_arcs(s)), segs[0] if segs else None)
     w.plane = first.plane if first is not None else Plane.G17
     w.emit([*flavor.preamble, w.plane.value])
+    if curves:
+        # the curves become chains of short tangent-continuous pieces: no stop between them
+        tol_text = _fmt(fit_tol, min(15, max(MAX_DECIMALS, 2 - math.floor(math.log10(fit_tol)))), flavor)
+        for block in flavor.continuous_path:
+            w.emit([block.format(tol=tol_text)])
     for seg in segs:
         _write_segment(w, seg)
     w.emit([flavor.end])
     return "\n".join(w.lines) + "\n"
+
+
+def _fit_tolerance(value: object) -> float:
+    try:
+        tol = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise GcodeError(f"fit_tolerance_mm must be a positive finite length in mm, got {value!r}") from None
+    if isinstance(value, bool) or not (tol > 0.0 and math.isfinite(tol)):
+        raise GcodeError(f"fit_tolerance_mm must be a positive finite length in mm, got {value!r}")
+    return tol
 
 
 # --------------------------------------------------------------------------------------------

@@ -32,6 +32,8 @@ GCODE = GcodeFlavor(
     decimal_point=True,
     preamble=("G21", "G90", "G94", "G91.1", "G40"),
     end="M2",
+    # path blending within the contour tolerance (P): no stop between tangent arcs and lines
+    continuous_path=("G64 P{tol} Q0",),
 )
 
 CONTROLLER = Controller(

@@ -19,6 +19,8 @@ GCODE = GcodeFlavor(
     decimal_point=False,
     preamble=("G71", "G90", "G94", "G40"),
     end="M30",
+    # contour tolerance, then continuous-path mode with smoothing within it
+    continuous_path=("CTOL={tol}", "G642"),
 )
 
 CONTROLLER = Controller(
