@@ -281,6 +281,7 @@ class Rs274Reader:
                     comp,
                     st.feed_mm_s,
                     actions=tuple(actions),
+                    control=st.control,
                 )
             )
             return ended
@@ -445,6 +446,7 @@ class Rs274Reader:
             turns=turns,
             actions=actions,
             plane_programmed=plane_programmed,
+            control=st.control,
         )
 
 

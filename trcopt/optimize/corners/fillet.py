@@ -30,7 +30,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
-from trcopt.geometry import Arc, Line
+import numpy as np
+
+from trcopt.geometry import Arc, Line, Poly
+from trcopt.geometry.poly import CHORD_TOL_MM
 from trcopt.modes import ToleranceKind, TransitionKind
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.path import Role, Segment
@@ -44,6 +47,8 @@ __all__ = [
     "cut_contour_spec",
     "fillet_path",
     "line_joints",
+    "rebuild_with_origin",
+    "turn_angle3",
     "turn_between",
 ]
 
@@ -116,10 +121,24 @@ def _in_plane(g: Line) -> bool:
     return abs(g.start[2] - g.end[2]) <= _W_TOL and g.plane_length > 1e-9
 
 
+def _direction3(g: Line) -> tuple[float, float, float]:
+    length = g.length
+    return ((g.end[0] - g.start[0]) / length, (g.end[1] - g.start[1]) / length, (g.end[2] - g.start[2]) / length)
+
+
+def turn_angle3(a: Line, b: Line) -> float:
+    """Unsigned angle between the directions of two lines in space, rad."""
+    ta, tb = _direction3(a), _direction3(b)
+    cross = (ta[1] * tb[2] - ta[2] * tb[1], ta[2] * tb[0] - ta[0] * tb[2], ta[0] * tb[1] - ta[1] * tb[0])
+    dot = ta[0] * tb[0] + ta[1] * tb[1] + ta[2] * tb[2]
+    return math.atan2(math.sqrt(cross[0] ** 2 + cross[1] ** 2 + cross[2] ** 2), dot)
+
+
 def line_joints(segments: Sequence[Segment]) -> list[int]:
     """The joints ``k`` (between ``segments[k]`` and ``[k + 1]``) that a circular blend can round:
-    two feed lines of one plane at one applicate, of the same compensation,
-    meeting at a turn between :data:`TANGENT_TOL_RAD` and :data:`MAX_TURN_RAD`."""
+    two feed lines of one working plane and the same compensation, meeting at a turn between
+    :data:`TANGENT_TOL_RAD` and :data:`MAX_TURN_RAD` (measured in space: the blend lies in the
+    plane of the two lines, which need not be the working plane)."""
     out = []
     for k in range(len(segments) - 1):
         s1, s2 = segments[k], segments[k + 1]
@@ -128,11 +147,9 @@ def line_joints(segments: Sequence[Segment]) -> list[int]:
             continue
         if s1.is_rapid or s2.is_rapid or s1.plane != s2.plane or s1.side != s2.side or s1.radius != s2.radius:
             continue
-        if not (_in_plane(g1) and _in_plane(g2)) or abs(g1.end[2] - g2.start[2]) > _W_TOL:
+        if g1.length <= 1e-9 or g2.length <= 1e-9 or math.dist(g1.end, g2.start) > 1e-9:
             continue
-        if math.dist(g1.end, g2.start) > 1e-9:
-            continue
-        if TANGENT_TOL_RAD < abs(turn_between(g1, g2)) <= MAX_TURN_RAD:
+        if TANGENT_TOL_RAD < turn_angle3(g1, g2) <= MAX_TURN_RAD:
             out.append(k)
     return out
 
@@ -164,7 +181,7 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
     blended = [k for k in wanted if k in ok]
     at = set(blended)
     records: list[CornerRecord] = []
-    cuts: dict[int, tuple[float, Arc, float, float]] = {}  # joint → (tangent length, arc, vertex, contour)
+    cuts: dict[int, tuple[float, Arc | Poly, float, float]] = {}  # joint → (tangent length, arc, vertex, contour)
     for k in wanted:
         if k not in at:
             records.append(CornerRecord(k, 0.0, False, False, specs[k].tolerance_mm or 0.0, reason=_why_not(segs, k)))
@@ -172,29 +189,24 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
         s1, s2 = segs[k], segs[k + 1]
         a, b = s1.geometry, s2.geometry
         assert isinstance(a, Line) and isinstance(b, Line)
-        phi_signed = turn_between(a, b)
-        phi = abs(phi_signed)
+        flat = _in_plane(a) and _in_plane(b) and abs(a.end[2] - b.start[2]) <= _W_TOL
+        phi = turn_angle3(a, b)
+        phi_signed = turn_between(a, b) if flat else phi
         tan_half = math.tan(0.5 * phi)
         share_a = 0.5 if (k - 1) in at else LINE_SHARE
         share_b = 0.5 if (k + 1) in at else LINE_SHARE
-        t_len = min(a.plane_length * share_a, b.plane_length * share_b)
+        t_len = min(a.length * share_a, b.length * share_b)
         spec = specs[k].bounded(a.length, b.length)
         r = min(spec.radius(phi), t_len / tan_half)
         T = r * tan_half
-        inside = s1.radius > 0.0 and _inside(s1, phi_signed)
+        inside = s1.radius > 0.0 and flat and _inside(s1, phi_signed)
         if not (T >= MIN_TANGENT_MM and math.isfinite(r)):
             records.append(CornerRecord(k, math.degrees(phi_signed), inside, False, spec.tolerance_mm or 0.0,
                                         reason="no room for a blend"))  # fmt: skip
             continue
-        ta, tb = a.direction2(), b.direction2()
-        J = a.end
-        A = (J[0] - T * ta[0], J[1] - T * ta[1], J[2])
-        B = (J[0] + T * tb[0], J[1] + T * tb[1], J[2])
-        sgn = 1.0 if phi_signed > 0 else -1.0
-        centre = (A[0] - sgn * r * ta[1], A[1] + sgn * r * ta[0])
-        arc = Arc.from_points(A, B, centre, sgn > 0, False)
+        blend = _flat_arc(a, b, T, r, phi_signed) if flat else _space_arc(a, b, T, r, phi)
         vertex, contour = blend_distances(r, phi)
-        cuts[k] = (T, arc, vertex, contour)
+        cuts[k] = (T, blend, vertex, contour)
         records.append(
             CornerRecord(
                 k, math.degrees(phi_signed), inside, True, spec.tolerance_mm or 0.0,
@@ -202,13 +214,52 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
                 vertex_mm=vertex, contour_mm=contour, radius_mm=r,
             )
         )  # fmt: skip
-    out = _rebuild(segs, cuts)
+    out, origin = rebuild_with_origin(segs, cuts)
     deviation = 0.0
     for rec in records:
         if rec.blended and rec.vertex_mm is not None and rec.contour_mm is not None:
             kind = specs[rec.index].kind
             deviation = max(deviation, rec.vertex_mm if kind is ToleranceKind.VERTEX else rec.contour_mm)
-    return CornerResult(out, records, deviation, mode)
+    result = CornerResult(out, records, deviation, mode)
+    result.origin = origin
+    return result
+
+
+def _flat_arc(a: Line, b: Line, T: float, r: float, turn: float) -> Arc:
+    """The blend of radius ``r`` between two lines of the working plane at one applicate."""
+    ta, tb = a.direction2(), b.direction2()
+    J = a.end
+    A = (J[0] - T * ta[0], J[1] - T * ta[1], J[2])
+    B = (J[0] + T * tb[0], J[1] + T * tb[1], J[2])
+    sgn = 1.0 if turn > 0 else -1.0
+    centre = (A[0] - sgn * r * ta[1], A[1] + sgn * r * ta[0])
+    return Arc.from_points(A, B, centre, sgn > 0, False)
+
+
+def _space_arc(a: Line, b: Line, T: float, r: float, phi: float) -> Poly:
+    """The blend of radius ``r`` between two lines in space: a circle in the plane of the two lines,
+    sampled at a chord error of at most :data:`~trcopt.geometry.poly.CHORD_TOL_MM` / 2 with its
+    exact tangents, curvature vectors and arc length (a curvature-continuous Poly)."""
+    ta, tb = np.array(_direction3(a)), np.array(_direction3(b))
+    J = np.array(a.end)
+    n = tb - float(ta @ tb) * ta
+    n /= np.linalg.norm(n)
+    centre = J - T * ta + r * n
+    step = 2.0 * math.acos(max(-1.0, 1.0 - 0.5 * CHORD_TOL_MM / r)) if r > 0.5 * CHORD_TOL_MM else phi
+    count = max(3, math.ceil(phi / max(step, 1e-9)) + 1)
+    theta = np.linspace(0.0, phi, count)
+    c, s_ = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    points = centre - r * c * n + r * s_ * ta
+    tangents = s_ * n + c * ta
+    curvatures = (c * n - s_ * ta) / r
+    points[0], points[-1] = J - T * ta, J + T * tb  # the joints exactly
+    return Poly(
+        tuple(map(tuple, points)),
+        tuple(map(tuple, tangents)),
+        tuple((r * theta).tolist()),
+        "blend",
+        tuple(map(tuple, curvatures)),
+    )
 
 
 def _inside(seg: Segment, turn: float) -> bool:
@@ -225,9 +276,9 @@ def _why_not(segs: Sequence[Segment], k: int) -> str:
         return "circular blends round corners between two lines only"
     if segs[k].is_rapid or segs[k + 1].is_rapid:
         return "a rapid move is not blended"
-    if not (_in_plane(a) and _in_plane(b)):
-        return "a line leaves the working plane"
-    turn = abs(turn_between(a, b))
+    if segs[k].plane != segs[k + 1].plane:
+        return "the working plane changes"
+    turn = turn_angle3(a, b)
     if turn > MAX_TURN_RAD:
         return f"turn of {math.degrees(turn):.1f}° (near reversal): exact stop"
     if turn <= TANGENT_TOL_RAD:
@@ -235,28 +286,40 @@ def _why_not(segs: Sequence[Segment], k: int) -> str:
     return "not joined"
 
 
-def _rebuild(segs: list[Segment], cuts: dict[int, tuple[float, Arc, float, float]]) -> list[Segment]:
+def _rebuild(segs: list[Segment], cuts: dict[int, tuple[float, Arc | Poly, float, float]]) -> list[Segment]:
     """The path with each line shortened by its blends' tangent lengths and the arcs inserted (role
     ``corner``, source span and feed of the following block)."""
+    return rebuild_with_origin(segs, cuts)[0]
+
+
+def rebuild_with_origin(
+    segs: list[Segment], cuts: dict[int, tuple[float, Arc | Poly, float, float]]
+) -> tuple[list[Segment], list[int]]:
+    """:func:`_rebuild`, and for every new segment the index of the old segment it comes from (a
+    blend: the segment before its joint)."""
     if not cuts:
-        return list(segs)
+        return list(segs), list(range(len(segs)))
     out: list[Segment] = []
+    origin: list[int] = []
     for i, seg in enumerate(segs):
         g = seg.geometry
         before = cuts.get(i - 1)
         after = cuts.get(i)
         if before is None and after is None:
             out.append(seg)
+            origin.append(i)
             continue
         assert isinstance(g, Line)
-        length = g.plane_length
+        length = g.length
         t0 = before[0] / length if before is not None else 0.0
         t1 = 1.0 - after[0] / length if after is not None else 1.0
         start = before[1].end if before is not None else g.start
         end = after[1].start if after is not None else g.end
         if (t1 - t0) * length > 1e-9:
             out.append(seg.with_geometry(Line(start, end)))
+            origin.append(i)
         if after is not None:
             nxt = segs[i + 1]
             out.append(replace(nxt, geometry=after[1], role=Role.CORNER))
-    return out
+            origin.append(i)
+    return out, origin

@@ -15,11 +15,13 @@ With ``select`` the plan is timed against the same-ε circular blends and a per-
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
 from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.fillet import FilletSpec, fillet_path, line_joints
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.selection import fastest
@@ -36,10 +38,42 @@ CornerTask = tuple[int, CornerSite, float, tuple[float, float] | None]  # joint,
 
 
 def optimal_transitions(job: CornerJob) -> CornerResult:
-    """``job``'s path with G2 transitions within its tolerance (see the module description)."""
-    result = _g2_transitions(job) if job.tolerance_mm > 0 else job.unchanged()
+    """``job``'s path with G2 transitions within its tolerance (see the module description); the
+    corners of uncompensated lines (G40 CAM output) get the largest circular blend within the
+    tolerance first — under acceleration limits no transition within the same distance from the
+    path has a larger smallest radius."""
+    if job.tolerance_mm <= 0:
+        result = job.unchanged()
+    else:
+        free = _free_blends(job)
+        if free.blended:
+            result = _g2_transitions(replace(job, toolpath=free.segments))
+            result = _renumber(free, result)
+        else:
+            result = _g2_transitions(job)
     result.objective = job.objective  # reported with the plan, also when nothing was blended
     return result
+
+
+def _free_blends(job: CornerJob) -> CornerResult:
+    """Circular blends at the corners of uncompensated feed lines (the path's own tolerance)."""
+    segs = list(job.toolpath)
+    specs = {
+        k: FilletSpec((1.0 - TARGET_MARGIN) * job.tolerance_at(k), job.kind)
+        for k in line_joints(segs)
+        if segs[k].radius == 0.0
+    }
+    return fillet_path(segs, specs, job.strategy) if specs else job.unchanged()
+
+
+def _renumber(first: CornerResult, second: CornerResult) -> CornerResult:
+    """``second`` (run on ``first``'s path) with its records' joints numbered on the exact path
+    and ``first``'s records added."""
+    origin = first.origin or list(range(len(first.segments)))
+    moved = [replace(c, index=origin[c.index]) for c in second.corners]
+    second.corners = sorted(first.corners + moved, key=lambda r: r.index)
+    second.max_deviation_mm = max(first.max_deviation_mm, second.max_deviation_mm)
+    return second
 
 
 def _g2_transitions(job: CornerJob) -> CornerResult:

@@ -98,6 +98,7 @@ class CornerResult:
     max_deviation_mm: float = 0.0
     mode: str = "optimal"
     objective: CornerObjective | None = None
+    origin: list[int] | None = None  # per new segment, the exact segment it comes from (when known)
 
     @property
     def blended(self) -> int:
