@@ -45,6 +45,7 @@ class Segment:
     t_start_s: float | None = None
     t_end_s: float | None = None
     stop: bool = False  # exact stop at the end (the program's G60, G9, G61.1), also where tangent
+    smooth_end: bool = False  # the kink at the end is rounded by the path-control mode: no stop there
 
     @property
     def kind(self) -> str:

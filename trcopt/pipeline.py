@@ -283,8 +283,9 @@ def _corners(result: PlanResult, moves: list[Move], opts: PlanOptions) -> tuple[
     if mode == corner_strategies.PROGRAM:
         toolpath = merge_collinear(toolpath, moves)  # LinuxCNC G64 Q: the controller's own path
     control = path_control_plan(toolpath, moves, opts.tolerance_kind)
-    if mode in (corner_strategies.PROGRAM, corner_strategies.EXACT) and control.stops:
-        toolpath = with_stops(toolpath, control.stops)
+    if mode in (corner_strategies.PROGRAM, corner_strategies.EXACT) and (control.stops or control.smooth):
+        smooth = control.smooth if mode == corner_strategies.PROGRAM else frozenset()
+        toolpath = with_stops(toolpath, control.stops, smooth)
     if mode == corner_strategies.EXACT or (mode == corner_strategies.PROGRAM and not control.blends):
         return toolpath, toolpath
     from trcopt.optimize.corners.blend import blend_corners

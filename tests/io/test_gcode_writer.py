@@ -57,14 +57,17 @@ def test_square_with_corner_arc_siemens_exact_blocks():
     assert text.splitlines()[0] == "; trcopt tool-centre path of sq.mpf"
     assert body(text) == [
         "N10 G71 G90 G94 G40 G17",
-        "N20 G0 X-5 Y-10 Z5 ; start of path, N10 L1 rapid",
-        "N30 G0 Z-2 ; N10 L1 rapid",
-        "N40 G1 Y0 F300 ; N20 L2 approach",
-        "N50 G1 Y40 F600 ; N30 L3 contour",
-        "N60 G2 X0 Y45 I5 J0 ; N40 L4 corner",
-        "N70 G1 X40 ; N40 L4 contour",
-        "N80 G0 Z5 ; N50 L5 rapid",
-        "N90 M30",
+        # a path with transitions: no stop where the written digits leave a kink
+        "N20 CTOL=0.001",
+        "N30 G642",
+        "N40 G0 X-5 Y-10 Z5 ; start of path, N10 L1 rapid",
+        "N50 G0 Z-2 ; N10 L1 rapid",
+        "N60 G1 Y0 F300 ; N20 L2 approach",
+        "N70 G1 Y40 F600 ; N30 L3 contour",
+        "N80 G2 X0 Y45 I5 J0 ; N40 L4 corner",
+        "N90 G1 X40 ; N40 L4 contour",
+        "N100 G0 Z5 ; N50 L5 rapid",
+        "N110 M30",
     ]
     assert check_gcode_arcs(text) == []
 
@@ -75,6 +78,7 @@ def test_square_with_corner_arc_rs274_exact_blocks():
     assert lines[0] == "(trcopt tool-centre path of sq [v2].ngc)"
     assert body(text) == [
         "G21 G90 G94 G91.1 G40 G17",
+        "G64 P0.001 Q0",
         "G0 X-5.0 Y-10.0 Z5.0 (start of path, N10 L1 rapid)",
         "G0 Z-2.0 (N10 L1 rapid)",
         "G1 Y0.0 F300.0 (N20 L2 approach)",
@@ -354,10 +358,11 @@ def test_poly_arcs_linuxcnc_and_a_coarser_tolerance():
     assert 0.005 < two_sided(curve, near_corner) <= 0.02 + 1e-4
 
 
-def test_path_control_only_with_a_poly_written_as_arcs():
-    # no Poly: the programs stay as before (see the exact-block tests above), no path-control words
+def test_path_control_only_with_transitions():
+    # no transition (curve or corner arc): no path-control words
     for flavor in (SIEMENS, LINUXCNC):
-        text = toolpath_to_gcode(square_corner(), flavor=flavor)
+        plain = [s for s in square_corner() if not isinstance(s.geometry, Arc)]
+        text = toolpath_to_gcode(plain, flavor=flavor)
         assert "G64" not in text and "CTOL" not in text and "G642" not in text
     _, segs = corner_transition()
     text = toolpath_to_gcode(segs, flavor=LINUXCNC, poly_output="chords")

@@ -33,7 +33,7 @@ from trcopt.geometry.plane import Plane
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec3
-from trcopt.path import Segment
+from trcopt.path import Role, Segment
 from trcopt.units import mm_s_to_mm_min
 
 __all__ = ["GcodeError", "GcodeFlavor", "toolpath_to_gcode", "check_gcode_arcs"]
@@ -44,6 +44,9 @@ POLY_OUTPUTS = ("arcs", "chords")
 
 # centre word letter for each workpiece axis (x, y, z)
 _CENTRE_WORDS = ("I", "J", "K")
+# an arc is written with more decimals (up to MAX_DECIMALS) until its start and end radius as read
+# back agree within this, mm: re-reading the output then gives a path without gaps
+ARC_CONSISTENT_MM = 5e-7
 
 
 class GcodeError(TrcoptError, ValueError):
@@ -173,6 +176,12 @@ class _Writer:
 
     # -- motions --------------------------------------------------------------------------------
     def straight(self, g: str, end: Vec3, feed_mm_s: float | None, note: str | None) -> bool:
+        if g != "G0" and None not in self.pos:
+            here = [float(c) for c in self.pos]  # type: ignore[arg-type]
+            if math.dist(here, end) < 0.5 * 10.0**-self.decimals:
+                # shorter than the output resolution (a sliver between two transitions): the
+                # written position is the end point to the digits written
+                return False
         axes = self.axis_words(end, self.decimals)
         if not axes:
             return False
@@ -228,12 +237,27 @@ def _arc_block(
         nu, nv = -(e_v - s_v) / chord, (e_u - s_u) / chord
         h = (cu - mu) * nu + (cv - mv) * nv
         candidates.append((mu + h * nu, mv + h * nv))
+        unit = 10.0**-d
         for c_u, c_v in candidates:
-            i_off, j_off = _round(c_u - s_u, d), _round(c_v - s_v, d)
+            # the written centre nearest to the bisector among the neighbours of the rounded one:
+            # start and end radius of the arc as read back then agree as well as the digits allow
+            i0, j0 = _round(c_u - s_u, d), _round(c_v - s_v, d)
+            best = None
+            for di in (-2, -1, 0, 1, 2):
+                for dj in (-2, -1, 0, 1, 2):
+                    i_try, j_try = _round(i0 + di * unit, d), _round(j0 + dj * unit, d)
+                    r0 = math.hypot(i_try, j_try)
+                    r1 = math.hypot(e_u - s_u - i_try, e_v - s_v - j_try)
+                    key = (abs(r0 - r1), abs(di) + abs(dj))
+                    if best is None or key < best[0]:
+                        best = (key, i_try, j_try)
+            assert best is not None
+            i_off, j_off = best[1], best[2]
             rc_u, rc_v = s_u + i_off, s_v + j_off
             r0 = math.hypot(s_u - rc_u, s_v - rc_v)
             r1 = math.hypot(e_u - rc_u, e_v - rc_v)
-            if r0 == 0.0 or abs(r0 - r1) > tol_half:
+            mismatch_ok = abs(r0 - r1) <= (tol_half if d == MAX_DECIMALS else min(tol_half, ARC_CONSISTENT_MM))
+            if r0 == 0.0 or not mismatch_ok:
                 continue
             # the controller's arc must be the intended one: its points stay within the position
             # rounding (plus the tolerance) of the exact arc; a nearly closed arc must not wrap
@@ -379,7 +403,12 @@ def toolpath_to_gcode(
     def curve_as_arcs(s: Segment) -> bool:
         return poly_output == "arcs" and isinstance(s.geometry, Poly) and not s.is_rapid
 
-    curves = any(curve_as_arcs(s) for s in segs)
+    def transition(s: Segment) -> bool:
+        return curve_as_arcs(s) or (s.role is Role.CORNER and isinstance(s.geometry, Arc) and not s.is_rapid)
+
+    # a path with transitions (curves as arc chains, circular blends) is tangent-continuous where
+    # the digits written leave kinks: the controller must not stop there
+    curves = any(transition(s) for s in segs)
     # the plane of the first arc (a curve written as arcs counts) goes into the preamble
     first = next((s for s in segs if isinstance(s.geometry, Arc) or curve_as_arcs(s)), segs[0] if segs else None)
     w.plane = first.plane if first is not None else Plane.G17

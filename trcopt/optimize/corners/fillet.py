@@ -97,11 +97,13 @@ class FilletSpec:
         if tol is None:
             return r
         half = 0.5 * phi
+        one_minus_cos = 2.0 * math.sin(0.5 * half) ** 2  # 1 − cos(φ/2), without cancellation
+        if one_minus_cos <= 0.0:
+            return r
         if self.kind is ToleranceKind.VERTEX:
-            c = math.cos(half)
-            return min(r, tol * c / (1.0 - c))
+            return min(r, tol * math.cos(half) / one_minus_cos)
         if self.kind is ToleranceKind.CONTOUR:
-            return min(r, tol / (1.0 - math.cos(half)))
+            return min(r, tol / one_minus_cos)
         return min(r, tol / math.tan(half))  # DISTANCE: the tangent length
 
 

@@ -50,6 +50,10 @@ class PathControlPlan:
         ``[k + 1]``).
     stops:
         Indices of the segments that end in an exact stop.
+    smooth:
+        Indices of the segments whose end is a kink the mode rounds within its tolerance no
+        tighter than the elements themselves curve (between arcs, or an arc and a line, e.g. the
+        digits of a written arc spline): passed as a tangent joint.
     words:
         The distinct path-control words of the program's moves, in order (for the report).
     """
@@ -57,6 +61,7 @@ class PathControlPlan:
     blends: dict[int, FilletSpec]
     stops: frozenset[int]
     words: tuple[str, ...]
+    smooth: frozenset[int] = frozenset()
 
     @property
     def tolerances(self) -> dict[int, float]:
@@ -79,6 +84,7 @@ def path_control_plan(
     controls = _controls_by_line(moves)
     blends: dict[int, FilletSpec] = {}
     stops: set[int] = set()
+    smooth: set[int] = set()
     words: dict[str, None] = {}
     n = len(toolpath)
     for k, seg in enumerate(toolpath):
@@ -93,8 +99,42 @@ def path_control_plan(
             measure = control.kind
             if kind is not None and measure is not ToleranceKind.DISTANCE:
                 measure = kind
-            blends[k] = FilletSpec(control.tolerance_mm, measure, length_share=control.length_share)
-    return PathControlPlan(blends, frozenset(stops), tuple(words))
+            spec = FilletSpec(control.tolerance_mm, measure, length_share=control.length_share)
+            nxt = toolpath[k + 1]
+            if isinstance(seg.geometry, Line) and isinstance(nxt.geometry, Line):
+                blends[k] = spec
+            elif _rounded_as_smooth(seg, nxt, spec):
+                smooth.add(k)
+    return PathControlPlan(blends, frozenset(stops), tuple(words), frozenset(smooth))
+
+
+def _rounded_as_smooth(a: Segment, b: Segment, spec: FilletSpec) -> bool:
+    """Whether the kink between ``a`` and ``b`` (not two lines) is rounded by ``spec`` with a radius
+    no smaller than the smaller radius of curvature of the two elements (so it does not limit the
+    speed more than they do)."""
+    if a.is_rapid or b.is_rapid or a.plane != b.plane or math.dist(a.geometry.end, b.geometry.start) > 1e-6:
+        return False
+    ga, gb = a.geometry, b.geometry
+    ta, tb = ga.derivatives(ga.length)[1], gb.derivatives(0.0)[1]
+    cos_t = max(-1.0, min(1.0, sum(x * y for x, y in zip(ta, tb, strict=True))))
+    theta = math.acos(cos_t)
+    if theta > 0.1:
+        return False  # a real corner
+    if theta <= 1e-12:
+        return True
+    radius = spec.bounded(ga.length, gb.length).radius(theta)
+    curvature = max(_curvature(ga), _curvature(gb))
+    return curvature > 0.0 and radius * curvature >= 1.0
+
+
+def _curvature(g: object) -> float:
+    from trcopt.geometry import Arc, Poly
+
+    if isinstance(g, Arc):
+        return 1.0 / g.radius if g.radius > 0 else math.inf
+    if isinstance(g, Poly) and g.curvatures is not None:
+        return max(math.sqrt(c[0] ** 2 + c[1] ** 2 + c[2] ** 2) for c in g.curvatures)
+    return 0.0
 
 
 def _distance_to_segment(p: tuple[float, ...], a: tuple[float, ...], b: tuple[float, ...]) -> float:
@@ -148,9 +188,13 @@ def merge_collinear(toolpath: Sequence[Segment], moves: Iterable[Move]) -> list[
     return out
 
 
-def with_stops(toolpath: Sequence[Segment], stops: frozenset[int]) -> list[Segment]:
-    """``toolpath`` with an exact stop at the end of the segments ``stops``."""
-    return [replace(s, stop=True) if k in stops else s for k, s in enumerate(toolpath)]
+def with_stops(toolpath: Sequence[Segment], stops: frozenset[int], smooth: frozenset[int] = frozenset()) -> list[Segment]:
+    """``toolpath`` with an exact stop at the end of the segments ``stops`` and a joint passed as
+    tangent at the end of the segments ``smooth``."""
+    return [
+        replace(s, stop=True) if k in stops else replace(s, smooth_end=True) if k in smooth else s
+        for k, s in enumerate(toolpath)
+    ]
 
 
 def program_transitions(job: CornerJob) -> CornerResult:
