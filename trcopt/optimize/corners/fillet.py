@@ -56,6 +56,7 @@ LINE_SHARE = 0.98  # the largest share of a line a blend may take when the line'
 MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
 TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
 MIN_TANGENT_MM = 1e-7  # a blend shorter than this on each line is no blend
+MIN_LINE_MM = 1e-4  # the shortest piece of a line left between two blends (unless they meet exactly)
 _W_TOL = 1e-12  # a line lies in its plane when its applicate changes by less, mm
 
 
@@ -184,29 +185,36 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
     at = set(blended)
     records: list[CornerRecord] = []
     cuts: dict[int, tuple[float, Arc | Poly, float, float]] = {}  # joint → (tangent length, arc, vertex, contour)
-    for k in wanted:
-        if k not in at:
-            records.append(CornerRecord(k, 0.0, False, False, specs[k].tolerance_mm or 0.0, reason=_why_not(segs, k)))
-            continue
-        s1, s2 = segs[k], segs[k + 1]
-        a, b = s1.geometry, s2.geometry
+    # first the tangent length of every blend, then the slivers, then the geometry
+    sizes: dict[int, tuple[float, float, float]] = {}  # joint → (turn, signed turn, tangent length)
+    for k in blended:
+        a, b = segs[k].geometry, segs[k + 1].geometry
         assert isinstance(a, Line) and isinstance(b, Line)
-        flat = _in_plane(a) and _in_plane(b) and abs(a.end[2] - b.start[2]) <= _W_TOL
         phi = turn_angle3(a, b)
-        phi_signed = turn_between(a, b) if flat else phi
+        phi_signed = turn_between(a, b) if _flat(a, b) else phi
         tan_half = math.tan(0.5 * phi)
         share_a = 0.5 if (k - 1) in at else LINE_SHARE
         share_b = 0.5 if (k + 1) in at else LINE_SHARE
         t_len = min(a.length * share_a, b.length * share_b)
-        spec = specs[k].bounded(a.length, b.length)
-        r = min(spec.radius(phi), t_len / tan_half)
-        T = r * tan_half
-        inside = s1.radius > 0.0 and flat and _inside(s1, phi_signed)
+        r = min(specs[k].bounded(a.length, b.length).radius(phi), t_len / tan_half)
+        sizes[k] = (phi, phi_signed, r * tan_half)
+    _no_slivers(segs, sizes)
+    for k in wanted:
+        spec = specs[k]
+        if k not in sizes:
+            records.append(CornerRecord(k, 0.0, False, False, spec.tolerance_mm or 0.0, reason=_why_not(segs, k)))
+            continue
+        s1 = segs[k]
+        a, b = s1.geometry, segs[k + 1].geometry
+        assert isinstance(a, Line) and isinstance(b, Line)
+        phi, phi_signed, T = sizes[k]
+        r = T / math.tan(0.5 * phi)
+        inside = s1.radius > 0.0 and _flat(a, b) and _inside(s1, phi_signed)
         if not (T >= MIN_TANGENT_MM and math.isfinite(r)):
             records.append(CornerRecord(k, math.degrees(phi_signed), inside, False, spec.tolerance_mm or 0.0,
                                         reason="no room for a blend"))  # fmt: skip
             continue
-        blend = _flat_arc(a, b, T, r, phi_signed) if flat else _space_arc(a, b, T, r, phi)
+        blend = _flat_arc(a, b, T, r, phi_signed) if _flat(a, b) else _space_arc(a, b, T, r, phi)
         vertex, contour = blend_distances(r, phi)
         cuts[k] = (T, blend, vertex, contour)
         records.append(
@@ -225,6 +233,29 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
     result = CornerResult(out, records, deviation, mode)
     result.origin = origin
     return result
+
+
+def _flat(a: Line, b: Line) -> bool:
+    """Both lines in the working plane at one applicate (the blend is an Arc)."""
+    return _in_plane(a) and _in_plane(b) and abs(a.end[2] - b.start[2]) <= _W_TOL
+
+
+def _no_slivers(segs: Sequence[Segment], sizes: dict[int, tuple[float, float, float]]) -> None:
+    """Shorten the blends at both ends of a line that would leave less than :data:`MIN_LINE_MM`
+    of it (but more than nothing) so that :data:`MIN_LINE_MM` stays: a line of a few nanometres
+    between two blends is no geometry a controller or the timing grid can use. Blends that meet
+    exactly (two halves of one line) stay."""
+    for k in sorted(sizes):
+        if (k + 1) not in sizes:
+            continue
+        length = segs[k + 1].geometry.length
+        t0, t1 = sizes[k][2], sizes[k + 1][2]
+        rest = length - t0 - t1
+        if rest <= 1e-12 * length or rest >= MIN_LINE_MM:
+            continue
+        scale = max(0.0, (length - MIN_LINE_MM) / (t0 + t1))
+        sizes[k] = (*sizes[k][:2], t0 * scale)
+        sizes[k + 1] = (*sizes[k + 1][:2], t1 * scale)
 
 
 def _flat_arc(a: Line, b: Line, T: float, r: float, turn: float) -> Arc:
@@ -317,7 +348,7 @@ def rebuild_with_origin(
         t1 = 1.0 - after[0] / length if after is not None else 1.0
         start = before[1].end if before is not None else g.start
         end = after[1].start if after is not None else g.end
-        if (t1 - t0) * length > 1e-9:
+        if (t1 - t0) * length > 1e-12 * length:
             out.append(seg.with_geometry(Line(start, end)))
             origin.append(i)
         if after is not None:
