@@ -188,7 +188,9 @@ def merge_collinear(toolpath: Sequence[Segment], moves: Iterable[Move]) -> list[
     return out
 
 
-def with_stops(toolpath: Sequence[Segment], stops: frozenset[int], smooth: frozenset[int] = frozenset()) -> list[Segment]:
+def with_stops(
+    toolpath: Sequence[Segment], stops: frozenset[int], smooth: frozenset[int] = frozenset()
+) -> list[Segment]:
     """``toolpath`` with an exact stop at the end of the segments ``stops`` and a joint passed as
     tangent at the end of the segments ``smooth``."""
     return [
