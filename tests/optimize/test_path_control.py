@@ -15,6 +15,7 @@ from trcopt import PlanOptions, controllers, plan
 from trcopt.cli import main
 from trcopt.errors import SourceSpan
 from trcopt.geometry import Line, Plane
+from trcopt.io.schema import validate_plan
 from trcopt.modes import PathMode, ToleranceKind
 from trcopt.optimize.corners.fillet import FilletSpec, blend_distances, fillet_path, line_joints
 from trcopt.optimize.corners.program import merge_collinear
@@ -179,6 +180,7 @@ def test_the_program_mode_is_the_default_and_exact_forces_stops() -> None:
     assert corners["blended"] == corners["arc"] == 24 and corners["tolerance_kind"] == "vertex"
     assert corners["max_vertex_mm"] <= 0.05 + 1e-12 and "corners" not in exact.extra
     assert blended.timing.duration < exact.timing.duration - 0.1
+    validate_plan(json.loads(json.dumps(blended.to_json())))  # the corners report keeps the contract
     # the same program without a mode keeps the exact path
     plain = plan(zigzag_ngc(""), file="z.ngc")
     assert "corners" not in plain.extra and plain.timing.duration == pytest.approx(exact.timing.duration)
