@@ -1,8 +1,9 @@
 """Settings as frozen dataclasses: compensation machine data, tolerances, machine limits.
 
 The TRC machine data follow spec §0.5 of ``sinumerik_trc.md`` (with its errata: MD20240 default 3).
-``Machine`` is the per-axis kinematic description used by the timing stage; it loads from the TOML
-format of design.md §3.1b and falls back to :data:`DEFAULT_MACHINE` for missing axes.
+``Machine`` is the kinematic description used by the timing stage: per-axis limits and optional
+vector (path) limits on the tool-centre motion (:class:`PathLimits`). It loads from the TOML format
+of design.md §3.1b (``docs/machine.md``) and falls back to :data:`DEFAULT_MACHINE` for missing axes.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ __all__ = [
     "Tolerances",
     "TrcSettings",
     "AxisLimits",
+    "PathLimits",
     "Machine",
     "DEFAULT_MACHINE",
     "load_machine",
@@ -96,13 +98,63 @@ class AxisLimits:
             raise ConfigError(f"axis limit jmax_mm_s3 must be positive, got {self.jmax_mm_s3!r}")
 
 
+def _positive_limit(value: Any) -> bool:
+    """True for a positive finite int or float (bool is not a number here)."""
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value) and value > 0
+
+
+@dataclass(frozen=True, slots=True)
+class PathLimits:
+    """Vector limits on the tool-centre motion (the ``[path]`` table of a machine file).
+
+    Each limit is optional (None: not limited); all that are given hold together with the per-axis
+    limits.
+
+    Parameters
+    ----------
+    vmax_mm_s:
+        Largest tool-centre path speed ``|v|``, mm/s.
+    amax_mm_s2:
+        Largest norm of the acceleration vector ``|a|`` (tangential and centripetal together), mm/s².
+    jmax_mm_s3:
+        Largest norm of the jerk vector ``|j|``, mm/s³ (the jerk-limited feed only).
+
+    Raises
+    ------
+    ConfigError
+        A limit that is given is not a positive finite number.
+    """
+
+    vmax_mm_s: float | None = None
+    amax_mm_s2: float | None = None
+    jmax_mm_s3: float | None = None
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if value is not None and not _positive_limit(value):
+                raise ConfigError(f"path limit {f.name} must be a positive finite number, got {value!r}")
+            if value is not None:
+                object.__setattr__(self, f.name, float(value))
+
+    @property
+    def given(self) -> bool:
+        """True when at least one vector limit is set."""
+        return self.vmax_mm_s is not None or self.amax_mm_s2 is not None or self.jmax_mm_s3 is not None
+
+    def to_json(self) -> dict[str, float | None]:
+        """The three limits by key (None where not given)."""
+        return {"vmax_mm_s": self.vmax_mm_s, "amax_mm_s2": self.amax_mm_s2, "jmax_mm_s3": self.jmax_mm_s3}
+
+
 @dataclass(frozen=True, slots=True)
 class Machine:
-    """A machine: name, rapid feed (mm/min) and per-axis limits for X, Y, Z.
+    """A machine: name, rapid feed (mm/min), per-axis limits for X, Y, Z and vector limits.
 
     ``feed_reference`` says whether the programmed feed applies to the contour
     (``FeedReference.CONTOUR``, SINUMERIK's CFC-like reading) or to the tool centre
-    (``FeedReference.CENTRE``, CFTCP, the default).
+    (``FeedReference.CENTRE``, CFTCP, the default). ``path`` holds the optional vector limits on
+    the tool-centre motion (:class:`PathLimits`; None is read as no vector limit).
     """
 
     name: str = "trcopt default 3-axis mill"
@@ -113,10 +165,15 @@ class Machine:
         ("Z", AxisLimits(100.0, 1000.0, 20000.0)),
     )
     feed_reference: FeedReference = FeedReference.CENTRE
+    path: PathLimits = PathLimits()
 
     def __post_init__(self) -> None:
         # a string is accepted here, at the boundary, and becomes the mode
         object.__setattr__(self, "feed_reference", parse_enum(FeedReference, self.feed_reference, "feed_reference"))
+        if self.path is None:
+            object.__setattr__(self, "path", PathLimits())
+        elif not isinstance(self.path, PathLimits):
+            raise ConfigError(f"machine path limits must be a PathLimits, got {type(self.path).__name__}")
 
     def axis(self, name: str) -> AxisLimits:
         for key, limits in self.axes:
@@ -129,7 +186,8 @@ class Machine:
         return self.rapid_mm_min / 60.0
 
     def to_json(self) -> dict[str, Any]:
-        return {
+        """The machine as the plan JSON describes it; ``path`` only when a vector limit is given."""
+        out: dict[str, Any] = {
             "name": self.name,
             "rapid_mm_min": self.rapid_mm_min,
             "feed_reference": self.feed_reference.value,
@@ -138,16 +196,37 @@ class Machine:
                 for k, a in self.axes
             },
         }
+        if self.path.given:
+            out["path"] = self.path.to_json()
+        return out
 
 
 DEFAULT_MACHINE = Machine()
 
-_MACHINE_KEYS = {"name", "rapid_mm_min", "axes", "feed_reference"}
+_MACHINE_KEYS = {"name", "rapid_mm_min", "axes", "feed_reference", "path"}
 _AXIS_KEYS = {f.name for f in fields(AxisLimits)}
+_PATH_KEYS = tuple(f.name for f in fields(PathLimits))
+
+
+def _path_from_table(raw: Any, source: str) -> PathLimits:
+    """The ``[path]`` table: each key optional, a positive finite number; unknown keys are errors."""
+    if not isinstance(raw, dict):
+        raise ConfigError(f"{source}: 'path' must be a table")
+    bad = set(raw) - set(_PATH_KEYS)
+    if bad:
+        raise ConfigError(f"{source}: unknown key path.{sorted(bad)[0]} (valid: {', '.join(_PATH_KEYS)})")
+    for key in _PATH_KEYS:
+        if key in raw and not _positive_limit(raw[key]):
+            raise ConfigError(f"{source}: path.{key} must be a positive finite number, got {raw[key]!r}")
+    return PathLimits(**{k: float(raw[k]) for k in _PATH_KEYS if k in raw})
 
 
 def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machine:
-    """Build a :class:`Machine` from a parsed TOML table; unknown keys are errors naming the key."""
+    """Build a :class:`Machine` from a parsed TOML table; unknown keys are errors naming the key.
+
+    The optional ``path`` table gives the vector limits (:class:`PathLimits`); the default machine
+    has none.
+    """
     unknown = set(data) - _MACHINE_KEYS
     if unknown:
         raise ConfigError(f"{source}: unknown machine key {sorted(unknown)[0]!r}")
@@ -181,11 +260,13 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
     rapid = data.get("rapid_mm_min", base.rapid_mm_min)
     if not isinstance(rapid, int | float) or not rapid > 0:
         raise ConfigError(f"{source}: rapid_mm_min must be a positive number")
+    path = _path_from_table(data["path"], source) if "path" in data else base.path
     return Machine(
         name=str(data.get("name", base.name)),
         rapid_mm_min=float(rapid),
         axes=tuple((k, axes[k]) for k in ("X", "Y", "Z")),
         feed_reference=feed_reference,
+        path=path,
     )
 
 

@@ -1,20 +1,34 @@
-"""Checks both kinds of trajectory share: finite-difference jerk and deviation from the exact path.
+"""Checks both kinds of trajectory share: finite-difference jerk, deviation from the exact path and
+the vector (path) limits.
 
 Used by the limit checks of :class:`~trcopt.timing.TimedTrajectory` and
 :class:`~trcopt.timing.jerk.JerkTrajectory`, and by the benchmarks; every function takes what it
 needs through the :class:`~trcopt.trajectory.Trajectory` protocol or as plain arrays.
+:class:`PathLimitReport` is the :class:`~trcopt.trajectory.LimitReport` both return, with the
+ratios to the machine's vector limits (``machine.path``) added.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from trcopt.config import PathLimits
 from trcopt.path import Segment
-from trcopt.trajectory import Samples, Trajectory
+from trcopt.trajectory import LimitReport, Samples, Trajectory
 
-__all__ = ["max_jerk", "path_deviation", "axis_triple", "DEVIATION_PROBES"]
+__all__ = [
+    "max_jerk",
+    "path_deviation",
+    "axis_triple",
+    "path_ratios",
+    "worst",
+    "PathLimitReport",
+    "DEVIATION_PROBES",
+]
 
 DEVIATION_PROBES = 64  # states compared with the exact geometry; spread evenly over the profile
 
@@ -61,3 +75,80 @@ def path_deviation(segments: Sequence[Segment], starts: np.ndarray, states: Samp
 def axis_triple(values: np.ndarray) -> tuple[float, float, float]:
     """The X, Y, Z entries of a per-axis array as plain floats (for reports and JSON)."""
     return (float(values[0]), float(values[1]), float(values[2]))
+
+
+def path_ratios(
+    limits: PathLimits, *states: Samples, jerk: np.ndarray | None = None
+) -> tuple[float | None, float | None, float | None]:
+    """Largest ratios of the states to the vector limits: ``(|v|/vmax, |a|/amax, |j|/jmax)``.
+
+    Each ratio is None where the limit is not given; ``|j|`` is taken from the states' ``j`` (when
+    they carry it) and from the extra norms ``jerk`` (mm/s³, e.g. knot steps divided by the cycle);
+    it stays None for states without jerk.
+    """
+
+    def ratio(limit: float | None, values: list[np.ndarray]) -> float | None:
+        if limit is None:
+            return None
+        return max((float(v.max()) for v in values if v.size), default=0.0) / limit
+
+    speeds = [np.asarray(st.speed) for st in states]
+    accs = [np.linalg.norm(st.a, axis=1) for st in states]
+    jerks = [np.linalg.norm(st.j, axis=1) for st in states if st.j is not None]
+    if jerk is not None:
+        jerks.append(np.asarray(jerk))
+    pj = ratio(limits.jmax_mm_s3, jerks) if jerks else None
+    return ratio(limits.vmax_mm_s, speeds), ratio(limits.amax_mm_s2, accs), pj
+
+
+def worst(*ratios: float | None) -> float | None:
+    """The largest of the given ratios, None when none is given (max over several checks)."""
+    given = [r for r in ratios if r is not None]
+    return max(given) if given else None
+
+
+@dataclass(frozen=True)
+class PathLimitReport(LimitReport):
+    """:class:`~trcopt.trajectory.LimitReport` plus the ratios to the vector (path) limits.
+
+    ``ok`` covers these ratios as well (each ≤ ``tolerance``).
+
+    Attributes
+    ----------
+    path_v_ratio:
+        Largest path speed / ``machine.path.vmax_mm_s``, or None without that limit.
+    path_a_ratio:
+        Largest |a| / ``machine.path.amax_mm_s2`` (norm of the acceleration vector), or None.
+    path_j_ratio:
+        Largest |j| / ``machine.path.jmax_mm_s3`` (jerk-limited profiles: the analytic jerk of
+        the smooth pieces and the knot steps over the cycle), or None without that limit or for
+        a profile that does not bound the jerk.
+    """
+
+    path_v_ratio: float | None = None
+    path_a_ratio: float | None = None
+    path_j_ratio: float | None = None
+
+    @property
+    def path_given(self) -> bool:
+        """True when any vector-limit ratio was checked."""
+        return any(r is not None for r in (self.path_v_ratio, self.path_a_ratio, self.path_j_ratio))
+
+    def path_text(self) -> str:
+        """``; path |v|/vmax = …, |a|/amax = …`` for the ratios that were checked (else empty)."""
+        named = (("|v|/vmax", self.path_v_ratio), ("|a|/amax", self.path_a_ratio), ("|j|/jmax", self.path_j_ratio))
+        parts = [f"{name} = {r:.4f}" for name, r in named if r is not None]
+        return f"; path {', '.join(parts)}" if parts else ""
+
+    def path_json(self) -> dict[str, float | None]:
+        """The vector-limit ratios by key ``v``, ``a``, ``j`` (None where not checked)."""
+        return {"v": self.path_v_ratio, "a": self.path_a_ratio, "j": self.path_j_ratio}
+
+    def __str__(self) -> str:
+        return super().__str__() + self.path_text()
+
+    def to_json(self) -> dict[str, Any]:
+        out = super().to_json()
+        if self.path_given:
+            out["path_ratio"] = self.path_json()
+        return out

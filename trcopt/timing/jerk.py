@@ -23,7 +23,10 @@ discontinuities are passed at rest with zero acceleration.
 
 **Jerk measure** (``check_limits``, ``jerk_ratio``): per axis, the larger of (1) the analytic jerk of
 the smooth pieces, ``max |j_k|/jmax_k`` over samples every ``dt`` and both ends of every interval,
-and (2) the knot acceleration steps ``|Δq″_k|·v²/(T_c·jmax_k)``. The finite-difference jerk of the
+and (2) the knot acceleration steps ``|Δq″_k|·v²/(T_c·jmax_k)``. With a vector jerk limit J
+(``machine.path.jmax_mm_s3``) the same measure is taken of the norms, ``|j|/J`` and
+``|Δq″|·v²/(T_c·J)`` (``path_j_ratio``); the vector speed and acceleration limits are checked as
+``path_v_ratio`` and ``path_a_ratio``. The finite-difference jerk of the
 sampled acceleration at 1 kHz and 10 kHz is reported beside it for information: at 1 kHz (= T_c) it
 stays close to the measure, at 10 kHz a knot step shows up ten times larger because the step is then
 spread over 0.1 ms instead of one cycle.
@@ -42,11 +45,11 @@ from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.solution import Solution
-from trcopt.timing.checks import axis_triple, max_jerk, path_deviation
+from trcopt.timing.checks import axis_triple, max_jerk, path_deviation, path_ratios, worst
 from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_label
 from trcopt.timing.jerk_report import JERK_MEASURE, KNOT_RULE, METHOD, JerkLimitReport, JerkSamples, jerk_limits
 from trcopt.timing.path import PathArrays, path_derivatives
-from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_sections
+from trcopt.timing.sections import Section, axis_limits, path_speed_caps, segment_feeds, split_sections
 from trcopt.timing.trajectory import TimedTrajectory, sample_times
 
 __all__ = ["jerk_limited", "JerkTrajectory"]
@@ -178,7 +181,9 @@ class JerkTrajectory:
         """v, a (≤ ``tolerance``) and, with ``jerk``, the jerk measure (≤ ``jerk_tolerance``).
 
         Sampled every ``dt`` and at both ends of every interval; see the module docstring for the
-        jerk measure. Also checks the feed, speed 0 at section ends and the path deviation.
+        jerk measure. Also checks the feed, speed 0 at section ends, the path deviation and the
+        machine's vector limits (speed and |a| against ``tolerance``, |j| against
+        ``jerk_tolerance``).
         """
         smp, grid = self.sample(dt), self.grid_states()
         vr = np.maximum((np.abs(smp.v) / self.vmax).max(axis=0), (np.abs(grid.v) / self.vmax).max(axis=0))
@@ -192,11 +197,17 @@ class JerkTrajectory:
         corner = float(np.concatenate([[sol.geometry.v[0], sol.geometry.v[-1]] for sol in self.solutions]).max())
         dev = path_deviation(self.segments, self.arrays.start, grid)
         jr = np.maximum(js, jk)
+        knot_norm = None
+        if self.knot_s.size:
+            knot_norm = np.linalg.norm(self.knot_dq2, axis=1) * self.knot_v**2 / self.cycle_s
+        pv, pa, pj = path_ratios(self.machine.path, smp, grid, jerk=knot_norm)
+        path_va = worst(pv, pa)
         ok = bool(
             vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
+            and (path_va is None or path_va <= tolerance)
         )
         if jerk:
-            ok = ok and bool(jr.max() <= jerk_tolerance)
+            ok = ok and bool(jr.max() <= jerk_tolerance) and (pj is None or pj <= jerk_tolerance)
 
         return JerkLimitReport(
             ok=ok,
@@ -214,6 +225,9 @@ class JerkTrajectory:
             jerk_fd_10khz_ratio=axis_triple(fd[1]),
             jerk_tolerance=jerk_tolerance,
             jerk_checked=jerk,
+            path_v_ratio=pv,
+            path_a_ratio=pa,
+            path_j_ratio=pj,
         )
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
@@ -252,12 +266,19 @@ class JerkTrajectory:
             "acceleration_limited_duration_s": self.base.duration,
             "ctr_vs_acceleration_limited": self.duration / self.base.duration if self.base.duration > 0 else None,
             "sections": secs,
-            "max_ratios": {"v": rep.to_json()["v_ratio"], "a": rep.to_json()["a_ratio"], "feed": rep.feed_ratio},
+            "max_ratios": self._max_ratios(rep),
             "limits_ok": rep.ok,
             "max_jerk_ratio": rep.to_json()["jerk_ratio"],
             "jerk_report": rep.to_json(),
             "jerk_note": JERK_MEASURE,
         }
+
+    @staticmethod
+    def _max_ratios(rep: JerkLimitReport) -> dict[str, Any]:
+        out: dict[str, Any] = {"v": rep.to_json()["v_ratio"], "a": rep.to_json()["a_ratio"], "feed": rep.feed_ratio}
+        if rep.path_given:
+            out["path"] = rep.path_json()
+        return out
 
     def __repr__(self) -> str:
         return (
@@ -283,7 +304,8 @@ def jerk_limited(
     toolpath:
         Tool-centre segments in path order.
     machine:
-        Per-axis ``vmax`` (mm/s), ``amax`` (mm/s²) and ``jmax`` (mm/s³, required on X, Y, Z).
+        Per-axis ``vmax`` (mm/s), ``amax`` (mm/s²) and ``jmax`` (mm/s³, required on X, Y, Z), and
+        the optional vector limits ``machine.path`` (path speed, |a|, |j|).
     base:
         The acceleration-limited trajectory of the same path (computed when omitted); it places
         the nodes and warm-starts IPOPT.
@@ -319,7 +341,8 @@ def jerk_limited(
     arrays = PathArrays(segments)
     feeds = segment_feeds(segments, machine)
     sections = split_sections(segments, arrays, tangent_tol_rad)
-    ctx = (arrays, feeds, vmax, amax, jmax, base.s, base.sd, cycle_s, points)
+    vector = (machine.path.amax_mm_s2, machine.path.jmax_mm_s3)
+    ctx = (arrays, path_speed_caps(feeds, machine), vmax, amax, jmax, base.s, base.sd, cycle_s, points, vector)
     if workers > 1 and len(sections) > 1:
         from concurrent.futures import ProcessPoolExecutor
 
@@ -361,13 +384,14 @@ def _solve_section(sec: Section) -> tuple[Solution[SectionProfile], tuple[np.nda
     """Solve one section; IPOPT may stop at a local infeasibility from a poor start, so retry from a
     slower warm start, then on a doubled grid. Returns the solution and (knot nodes, Δq″ per knot)."""
     assert _CTX is not None
-    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points = _CTX
+    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points, (path_amax, path_jmax) = _CTX
     nseg = sec.last - sec.first + 1
     n0 = points if points is not None else min(60 + 30 * nseg, 600)
     spent = 0.0
     for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
         pb = JerkProblem(
-            sec, arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s=cycle_s, points=n_pts, init_scale=scale
+            sec, arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s=cycle_s, points=n_pts, init_scale=scale,
+            path_amax=path_amax, path_jmax=path_jmax,
         )
         sol = pb.solve()
         spent += sol.solve_time_s

@@ -11,7 +11,8 @@
   per ``DTHETA_JERK``.
 * **Curvature jumps** (line↔arc knots, G450 transition circles, arcs of different radius): the
   axis acceleration ``q″_k v²`` steps by ``Δq″_k·v²`` at the knot, which is passed at the speed at
-  which that step is absorbed in one interpolation cycle ``T_c``: ``|Δq″_k|·v² ≤ jmax_k·T_c``.
+  which that step is absorbed in one interpolation cycle ``T_c``: ``|Δq″_k|·v² ≤ jmax_k·T_c``, and
+  with a vector jerk limit J also ``|Δq″|·v² ≤ J·T_c`` (norm of the step vector).
 
 See :mod:`trcopt.timing.jerk_problem` for the NLP on this grid.
 """
@@ -122,6 +123,8 @@ def build_jerk_grid(
     cycle_s: float,
     points: int,
     label: str = "",
+    path_amax: float | None = None,
+    path_jmax: float | None = None,
 ) -> JerkGrid:
     """Place the nodes of section ``sec`` and compute their speed caps.
 
@@ -129,7 +132,7 @@ def build_jerk_grid(
     ----------
     sec, ar, feeds:
         The section, the evaluator of the whole tool path and the path-speed limit per segment
-        (mm/s).
+        (mm/s; the feed capped by the vector speed limit).
     vmax, amax, jmax:
         Per-axis limits X, Y, Z (mm/s, mm/s², mm/s³).
     base_s, base_v:
@@ -140,6 +143,9 @@ def build_jerk_grid(
         Target number of intervals (before the per-arc and per-Poly minimums).
     label:
         Appended to the section index in messages.
+    path_amax, path_jmax:
+        Vector limits on |a| (mm/s²) and |j| (mm/s³), or None; they enter the speed estimate and,
+        for |j|, the knot speed caps.
 
     Raises
     ------
@@ -148,6 +154,10 @@ def build_jerk_grid(
     """
     segs = np.arange(sec.first, sec.last + 1)
     jmin, amin = float(jmax.min()), float(amax.min())
+    if path_jmax is not None:
+        jmin = min(jmin, path_jmax)
+    if path_amax is not None:
+        amin = min(amin, path_amax)
     # curvature jumps at interior knots → speed caps (|Δq″_k| v² ≤ jmax_k T_c)
     knot_s = ar.start[segs[1:]]
     knot_cap = np.full(segs.shape[0] - 1, np.inf)
@@ -159,6 +169,9 @@ def build_jerk_grid(
             cap2 = (jmax[None, :] * cycle_s / np.where(np.abs(dq2) > CURVATURE_JUMP_TOL, np.abs(dq2), 0.0)).min(
                 axis=1
             )
+            if path_jmax is not None:
+                jump = np.linalg.norm(dq2, axis=1)
+                cap2 = np.minimum(cap2, path_jmax * cycle_s / np.where(jump > CURVATURE_JUMP_TOL, jump, 0.0))
         knot_cap = np.sqrt(cap2)
     # estimated speed on a fine sampling of every segment
     fine_n = FINE_SAMPLES
@@ -247,6 +260,8 @@ def build_jerk_grid(
     knot_dq2 = dq2_nodes[jump]
     with np.errstate(divide="ignore"):
         kc2 = (jmax[None, :] * cycle_s / np.abs(knot_dq2)).min(axis=1)
+        if path_jmax is not None:
+            kc2 = np.minimum(kc2, path_jmax * cycle_s / np.linalg.norm(knot_dq2, axis=1))
     cap[knot_nodes] = np.minimum(cap[knot_nodes], np.sqrt(kc2))
     cap[0] = cap[-1] = 0.0
     # estimated speed at the nodes

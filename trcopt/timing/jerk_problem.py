@@ -16,10 +16,15 @@ interval, speed caps from the feed, the axis velocities and the curvature-jump k
   ``|q‴_k v³ + 3 q″_k v a + q′_k j| ≤ jmax_k``; the programmed feed ``v ≤ F``; on arcs the limits
   are tightened by ``cos(Δθ/2)`` because the axis projections rotate inside an interval; extra rows
   inside arc and Poly intervals;
+* with vector limits (``machine.path``): the path speed limit is part of the feed caps, and
+  ``|q′a + q″v²|² ≤ A²`` and ``|q‴v³ + 3q″va + q′j|² ≤ J²`` (squared norms, smooth) at the same
+  places as the per-axis rows (no ``cos(Δθ/2)`` tightening: the norms do not depend on the
+  direction);
 * ``v = a = 0`` at both section ends (tangent discontinuities are passed at rest with zero
   acceleration, as in the acceleration-limited stage);
 * **curvature jumps** are passed at the knot speed cap of the grid,
-  ``|Δq″_k|·v² ≤ jmax_k·T_c`` for every axis (see :mod:`trcopt.timing.jerk` for the jerk measure);
+  ``|Δq″_k|·v² ≤ jmax_k·T_c`` for every axis and ``|Δq″|·v² ≤ J·T_c`` with a vector jerk limit
+  (see :mod:`trcopt.timing.jerk` for the jerk measure);
 * objective: minimise the section time ``Σ h_i``.
 
 The grid's speed estimate, scaled by ``init_scale``, warm-starts IPOPT. casadi is imported inside
@@ -72,7 +77,8 @@ class JerkProblem:
     arrays:
         Closed-form evaluator of the whole tool path.
     feeds:
-        Path-speed limit per segment of the whole path, mm/s.
+        Path-speed limit per segment of the whole path, mm/s (the feed, capped by the vector
+        speed limit).
     vmax, amax, jmax:
         Per-axis limits X, Y, Z (mm/s, mm/s², mm/s³).
     base_s, base_v:
@@ -85,6 +91,8 @@ class JerkProblem:
         :mod:`trcopt.timing.jerk_grid`).
     init_scale:
         The warm start is this fraction of the estimated speed.
+    path_amax, path_jmax:
+        Vector limits on |a| (mm/s²) and |j| (mm/s³), or None.
 
     Attributes
     ----------
@@ -118,11 +126,14 @@ class JerkProblem:
         points: int | None = None,
         label: str = "",
         init_scale: float = 0.95,
+        path_amax: float | None = None,
+        path_jmax: float | None = None,
     ) -> None:
         self.section = section
         self.arrays = arrays
         self.feeds = feeds
         self.vmax, self.amax, self.jmax = vmax, amax, jmax
+        self.path_amax, self.path_jmax = path_amax, path_jmax
         self.cycle_s = cycle_s
         self.label = label
         self.init_scale = init_scale
@@ -131,7 +142,8 @@ class JerkProblem:
         self._opti: Any = None
         self._vars: dict[str, Any] = {}
         self.grid: JerkGrid = build_jerk_grid(
-            section, arrays, feeds, vmax, amax, jmax, base_s, base_v, cycle_s=cycle_s, points=self.points, label=label
+            section, arrays, feeds, vmax, amax, jmax, base_s, base_v, cycle_s=cycle_s, points=self.points, label=label,
+            path_amax=path_amax, path_jmax=path_jmax,
         )
         self.v_init = init_scale * self.grid.v_estimate
 
@@ -162,6 +174,10 @@ class JerkProblem:
         self.vref = max(float(np.max(self.grid.vcap[np.isfinite(self.grid.vcap)])), 1.0)
         self.aref = float(self.amax.min())
         self.jref = float(self.jmax.min())
+        if self.path_amax is not None:
+            self.aref = min(self.aref, self.path_amax)
+        if self.path_jmax is not None:
+            self.jref = min(self.jref, self.path_jmax)
         self.href = max(float(guess["h"].sum()) / n, 1e-6)
         # A holds the interior accelerations a_1..a_{N-1}; a_0 = a_N = 0 (rest at both ends)
         # and V the interior speeds v_1..v_{N-1}; v_0 = v_N = 0
@@ -190,6 +206,14 @@ class JerkProblem:
                 jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
                 opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
                 opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
+        if self.path_amax is not None or self.path_jmax is not None:
+            for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
+                acc_v = [ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2 for k in self.grid.axes_used]
+                jerk_v = [
+                    ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj
+                    for k in self.grid.axes_used
+                ]
+                self._vector_rows(opti, acc_v, jerk_v)
         self._arc_midpoint_rows(opti, ca, v0, a0, h, jj)
         self._poly_midpoint_rows(opti, ca, v0, a0, h, jj)
         opti.minimize(ca.sum1(H) / n)
@@ -205,6 +229,16 @@ class JerkProblem:
         self._opti = opti
         self._vars = {"V": Vi, "A": A, "H": H, "J": Jp}
         return opti
+
+    def _vector_rows(self, opti: Any, acc: list[Any], jerk: list[Any]) -> None:
+        """``|a|² ≤ (m·A)²`` and ``|j|² ≤ (m·J)²`` (m = ``ACC_MARGIN``) from the components of a and j.
+
+        Only the vector limits that are given; the squared norms keep the rows smooth.
+        """
+        if self.path_amax is not None and acc:
+            opti.subject_to(sum(c**2 for c in acc) / self.path_amax**2 <= ACC_MARGIN**2)
+        if self.path_jmax is not None and jerk:
+            opti.subject_to(sum(c**2 for c in jerk) / self.path_jmax**2 <= ACC_MARGIN**2)
 
     def _arc_midpoint_rows(self, opti: Any, ca: Any, v0: Any, a0: Any, h: Any, jj: Any) -> None:
         """Acceleration and jerk rows at the time midpoint of every arc interval.
@@ -232,6 +266,13 @@ class JerkProblem:
         uvw2 = (-R * D**2 * c, -R * D**2 * sn, ca.DM.zeros(idx.shape[0]))
         uvw3 = (R * D**3 * sn, -R * D**3 * c, ca.DM.zeros(idx.shape[0]))
         perm = ar.perm[seg]
+        if self.path_amax is not None or self.path_jmax is not None:
+            # norms do not depend on the axis order: the plane components (u, v, w) serve
+            self._vector_rows(
+                opti,
+                [uvw1[c] * sdd + uvw2[c] * sd**2 for c in range(3)],
+                [uvw3[c] * sd**3 + 3 * uvw2[c] * sd * sdd + uvw1[c] * j for c in range(3)],
+            )
         for k in self.grid.axes_used:
             for comp in range(3):
                 m = perm[:, comp] == k
@@ -271,6 +312,7 @@ class JerkProblem:
             sdd = a + j * tau
             sd = v + a * tau + j * tau**2 / 2
             sig = v * tau + a * tau**2 / 2 + j * tau**3 / 6
+            acc_v, jerk_v = [], []
             for k in self.grid.axes_used:
                 q4, q5 = ca.DM(d4[:, k]), ca.DM(d5[:, k])
                 q3 = ca.DM(d3[:, k]) + q4 * sig + q5 * sig**2 / 2
@@ -286,6 +328,10 @@ class JerkProblem:
                 jerk = (q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j) / self.jmax[k]
                 opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
                 opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
+                if self.path_amax is not None or self.path_jmax is not None:
+                    acc_v.append(q1 * sdd + q2 * sd**2)
+                    jerk_v.append(q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j)
+            self._vector_rows(opti, acc_v, jerk_v)
 
     @property
     def opti(self) -> Any:
@@ -346,14 +392,16 @@ class JerkProblem:
         vel = float(np.max(np.maximum(p.v - cap, 0.0) / np.maximum(cap, 1.0)))
         acc = jer = 0.0
         for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
-            A = np.abs(d1 * aa[:, None] + d2 * (vv * vv)[:, None]) / (
-                self.amax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN
-            )
-            Jx = np.abs(d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]) / (
-                self.jmax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN
-            )
+            avec = d1 * aa[:, None] + d2 * (vv * vv)[:, None]
+            jvec = d3 * (vv**3)[:, None] + 3 * d2 * (vv * aa)[:, None] + d1 * j[:, None]
+            A = np.abs(avec) / (self.amax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN)
+            Jx = np.abs(jvec) / (self.jmax[None, :] * self.grid.tighten[:, None] * ACC_MARGIN)
             acc = max(acc, float(A.max()) - 1.0)
             jer = max(jer, float(Jx.max()) - 1.0)
+            if self.path_amax is not None:
+                acc = max(acc, float(np.linalg.norm(avec, axis=1).max()) / (self.path_amax * ACC_MARGIN) - 1.0)
+            if self.path_jmax is not None:
+                jer = max(jer, float(np.linalg.norm(jvec, axis=1).max()) / (self.path_jmax * ACC_MARGIN) - 1.0)
         return {
             "dynamics_mm": dyn,
             "velocity": vel,

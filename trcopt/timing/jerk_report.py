@@ -15,7 +15,8 @@ import numpy as np
 
 from trcopt.config import Machine
 from trcopt.errors import ConfigError
-from trcopt.trajectory import LimitReport, Samples
+from trcopt.timing.checks import PathLimitReport
+from trcopt.trajectory import Samples
 
 __all__ = ["JerkSamples", "JerkLimitReport", "jerk_limits", "METHOD", "KNOT_RULE", "JERK_MEASURE"]
 
@@ -54,9 +55,10 @@ class JerkSamples(Samples):
     sddd: np.ndarray
 
 
-@dataclass(frozen=True)
-class JerkLimitReport(LimitReport):
-    """:class:`~trcopt.trajectory.LimitReport` plus the jerk (ratios to jmax, max over X, Y, Z each).
+@dataclass(frozen=True, kw_only=True)
+class JerkLimitReport(PathLimitReport):
+    """:class:`~trcopt.timing.checks.PathLimitReport` plus the jerk (ratios to jmax, max over X, Y, Z
+    each); its own fields are keyword-only.
 
     Attributes
     ----------
@@ -90,14 +92,14 @@ class JerkLimitReport(LimitReport):
             f"{'PASS' if self.ok else 'FAIL'}: v/vmax (X,Y,Z) = {f(self.v_ratio)}; a/amax = {f(self.a_ratio)}; "
             f"j/jmax = {f(self.jerk_ratio)} (knots {f(self.jerk_knot_ratio)}; 1 kHz FD {f(self.jerk_fd_1khz_ratio)}); "
             f"feed {self.feed_ratio:.4f}; corner speed {self.corner_speed_mm_s:.2e} mm/s; "
-            f"deviation {self.path_deviation_mm:.1e} mm"
+            f"deviation {self.path_deviation_mm:.1e} mm{self.path_text()}"
         )
 
     def to_json(self) -> dict[str, Any]:
         def d(r: tuple[float, ...]) -> dict[str, float]:
             return dict(zip("XYZ", r, strict=True))
 
-        return {
+        out: dict[str, Any] = {
             "ok": self.ok,
             "v_ratio": d(self.v_ratio),
             "a_ratio": d(self.a_ratio),
@@ -111,3 +113,6 @@ class JerkLimitReport(LimitReport):
             "path_deviation_mm": self.path_deviation_mm,
             "jerk_measure": JERK_MEASURE,
         }
+        if self.path_given:
+            out["path_ratio"] = self.path_json()
+        return out

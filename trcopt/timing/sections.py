@@ -22,7 +22,14 @@ from trcopt.modes import FeedReference, Side
 from trcopt.path import Role, Segment
 from trcopt.timing.path import PathArrays
 
-__all__ = ["Section", "split_sections", "segment_feeds", "axis_limits", "TANGENT_TOL_RAD"]
+__all__ = [
+    "Section",
+    "split_sections",
+    "segment_feeds",
+    "axis_limits",
+    "path_speed_caps",
+    "TANGENT_TOL_RAD",
+]
 
 TANGENT_TOL_RAD = 1e-6
 MIN_LENGTH_MM = 1e-9
@@ -48,6 +55,17 @@ def axis_limits(machine: Machine) -> tuple[np.ndarray, np.ndarray]:
     v = np.array([machine.axis(k).vmax_mm_s for k in "XYZ"])
     a = np.array([machine.axis(k).amax_mm_s2 for k in "XYZ"])
     return v, a
+
+
+def path_speed_caps(feeds: np.ndarray, machine: Machine) -> np.ndarray:
+    """The path-speed limit per segment the solvers plan with, mm/s.
+
+    The feed of each segment (:func:`segment_feeds`) capped by the machine's vector speed limit
+    ``machine.path.vmax_mm_s``; ``feeds`` itself when the machine has none. The reports keep
+    comparing the profile with the feed itself.
+    """
+    vmax = machine.path.vmax_mm_s
+    return feeds if vmax is None else np.minimum(feeds, vmax)
 
 
 def segment_feeds(segments: Sequence[Segment], machine: Machine) -> np.ndarray:
@@ -88,7 +106,8 @@ def split_sections(
     segments: Sequence[Segment], arrays: PathArrays, tangent_tol_rad: float = TANGENT_TOL_RAD
 ) -> list[Section]:
     """Cut the path at every tangent discontinuity (3D angle > ``tangent_tol_rad``), between a rapid
-    and a feed move, and after every segment with an exact stop (:attr:`Segment.stop`)."""
+    and a feed move, and after every segment with an exact stop (:attr:`Segment.stop`); a kink the
+    path-control mode rounds (:attr:`Segment.smooth_end`) is passed as a tangent joint."""
     n = len(segments)
     if n == 0:
         return []
@@ -126,4 +145,5 @@ def _breaks(segments: Sequence[Segment], arrays: PathArrays, tol: float) -> np.n
         angle = np.arccos(np.clip((a * b).sum(axis=1), -1.0, 1.0))
     rapid = np.array([s.is_rapid for s in segments])
     stop = np.array([s.stop for s in segments[:-1]], dtype=bool)
-    return ~(angle <= tol) | (rapid[:-1] != rapid[1:]) | stop
+    smooth = np.array([s.smooth_end for s in segments[:-1]], dtype=bool)
+    return (~(angle <= tol) & ~smooth) | (rapid[:-1] != rapid[1:]) | stop

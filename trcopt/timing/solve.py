@@ -5,6 +5,11 @@ geometry (:mod:`.grid`) → per section either the own vectorised reachability s
 (:mod:`.reach`, sections made of lines and arcs/helices) or toppra (:mod:`.toppra_engine`,
 sections with Poly curves, sections where the own solver reports an infeasible step, or every
 section with ``engine="toppra"``) → exact closed-form profile on lines → :class:`TimedTrajectory`.
+
+The machine's vector limits (``machine.path``) join the per-axis ones: the path speed limit caps
+the feed of every segment, and the limit on |a| adds the rows of
+:func:`~trcopt.timing.reach.solve_lockstep_vector` to the own solver (exact on lines and arcs) and
+an inscribed polygon of the (s̈, κṡ²) disc to toppra.
 """
 
 from __future__ import annotations
@@ -19,8 +24,15 @@ from trcopt.modes import TimingEngine, parse_enum
 from trcopt.path import Segment
 from trcopt.timing.grid import segment_grid
 from trcopt.timing.path import PathArrays
-from trcopt.timing.reach import interval_rows, mvc_bound, pass_coefficients, solve_lockstep
-from trcopt.timing.sections import Section, axis_limits, segment_feeds, split_sections
+from trcopt.timing.reach import (
+    ellipse_terms,
+    interval_rows,
+    mvc_bound,
+    pass_coefficients,
+    solve_lockstep,
+    solve_lockstep_vector,
+)
+from trcopt.timing.sections import Section, axis_limits, path_speed_caps, segment_feeds, split_sections
 from trcopt.timing.toppra_engine import solve_section_toppra
 from trcopt.timing.trajectory import TimedTrajectory
 
@@ -42,7 +54,8 @@ def time_parameterize(
     toolpath:
         Tool-centre segments in path order (lines, arcs/helices, Poly curves).
     machine:
-        Per-axis ``vmax`` (mm/s) and ``amax`` (mm/s²), rapid feed and feed reference.
+        Per-axis ``vmax`` (mm/s) and ``amax`` (mm/s²), the optional vector limits
+        ``machine.path`` (path speed, |a|), rapid feed and feed reference.
     engine:
         ``AUTO`` (own reachability solver on line/arc sections, toppra on sections with Poly
         curves), ``OWN`` (same, spelled out) or ``TOPPRA`` (toppra on every section); the value
@@ -69,6 +82,8 @@ def time_parameterize(
         return TimedTrajectory.empty(machine)
     arrays = PathArrays(segments)
     feeds = segment_feeds(segments, machine)
+    speed = path_speed_caps(feeds, machine)
+    path_amax = machine.path.amax_mm_s2
     sections = split_sections(segments, arrays, tangent_tol_rad)
     use_toppra = [
         engine is TimingEngine.TOPPRA or bool(np.any(arrays.kind[sec.first : sec.last + 1] == 2)) for sec in sections
@@ -76,12 +91,13 @@ def time_parameterize(
     results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
     own = [sec for sec, t in zip(sections, use_toppra, strict=True) if not t]
     if own:
-        solved, failed = _solve_own(own, arrays, feeds, vmax, amax)
+        solved, failed = _solve_own(own, arrays, speed, vmax, amax, path_amax)
         results.update(solved)
         for k in failed:
             use_toppra[k] = True
     tsecs = [sec for sec, t in zip(sections, use_toppra, strict=True) if t]
-    for sec, (grid, x) in zip(tsecs, _solve_toppra_all(tsecs, segments, feeds, vmax, amax, workers), strict=True):
+    toppra_results = _solve_toppra_all(tsecs, segments, speed, vmax, amax, path_amax, workers)
+    for sec, (grid, x) in zip(tsecs, toppra_results, strict=True):
         local_start = arrays.start[sec.first : sec.last + 1] - sec.s_start
         iseg = sec.first + np.searchsorted(local_start, grid[:-1], side="right") - 1
         results[sec.index] = (grid + sec.s_start, x, iseg)
@@ -90,10 +106,12 @@ def time_parameterize(
 
 
 def _solve_toppra_all(
-    secs: list[Section], segments: list[Segment], feeds: np.ndarray, vmax: np.ndarray, amax: np.ndarray, workers: int
+    secs: list[Section], segments: list[Segment], feeds: np.ndarray, vmax: np.ndarray, amax: np.ndarray,
+    path_amax: float | None, workers: int,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     jobs = [
-        (sec, segments[sec.first : sec.last + 1], feeds[sec.first : sec.last + 1], vmax, amax) for sec in secs
+        (sec, segments[sec.first : sec.last + 1], feeds[sec.first : sec.last + 1], vmax, amax, path_amax)
+        for sec in secs
     ]
     if workers > 1 and len(jobs) > 1:
         with ProcessPoolExecutor(max_workers=workers) as pool:
@@ -102,14 +120,20 @@ def _solve_toppra_all(
 
 
 def _toppra_job(job: tuple) -> tuple[np.ndarray, np.ndarray]:
-    sec, segs, feeds, vmax, amax = job
-    return solve_section_toppra(sec, segs, feeds, vmax, amax)
+    sec, segs, feeds, vmax, amax, path_amax = job
+    return solve_section_toppra(sec, segs, feeds, vmax, amax, path_amax=path_amax)
 
 
 def _solve_own(
-    secs: list[Section], arrays: PathArrays, feeds: np.ndarray, vmax: np.ndarray, amax: np.ndarray
+    secs: list[Section], arrays: PathArrays, feeds: np.ndarray, vmax: np.ndarray, amax: np.ndarray,
+    path_amax: float | None = None,
 ) -> tuple[dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]], list[int]]:
-    amin = float(amax.min())
+    """Own reachability solver on line/arc sections; ``feeds`` are the path-speed limits (mm/s).
+
+    With ``path_amax`` (limit on |a|, mm/s²) the passes of
+    :func:`~trcopt.timing.reach.solve_lockstep_vector` replace the linear ones.
+    """
+    amin = float(amax.min()) if path_amax is None else min(float(amax.min()), path_amax)
     # 1. grids: flat list of intervals (segment, local s at both ends) over all sections
     s_lo, s_hi, seg_of, rate_of = [], [], [], []
     n_int = np.zeros(len(secs), dtype=np.int64)
@@ -139,10 +163,17 @@ def _solve_own(
     def cap(d1: np.ndarray, d2: np.ndarray) -> np.ndarray:
         with np.errstate(divide="ignore", over="ignore"):
             vel = ((vmax[None, :] / np.abs(d1)) ** 2).min(axis=1)
-        return np.minimum(np.minimum(vel, f2), mvc_bound(d1, d2, a_int))
+        out = np.minimum(np.minimum(vel, f2), mvc_bound(d1, d2, a_int))
+        if path_amax is not None:
+            with np.errstate(divide="ignore"):
+                out = np.minimum(out, path_amax / np.linalg.norm(d2, axis=1))  # |c|·x ≤ A
+        return out
 
     cap_l, cap_r = cap(d1l, d2l), cap(d1r, d2r)
-    qb, wb, zb, wf, zf = pass_coefficients(alpha, beta, gamma, curved)
+    if path_amax is None:
+        qb, wb, zb, wf, zf = pass_coefficients(alpha, beta, gamma, curved)
+    else:
+        cl, cr, dd = ellipse_terms(np.linalg.norm(d2l, axis=1), np.linalg.norm(d2r, axis=1), delta, path_amax)
     # 3. lock-step solve, grouping sections of similar interval count
     offsets = np.concatenate(([0], np.cumsum(n_int)))
     order = np.argsort(n_int, kind="stable")
@@ -158,22 +189,28 @@ def _solve_own(
         group = order[start:stop]
         N = int(n_int[group].max())
         G = len(group)
-        Q = np.full((G, N), np.inf)
-        WB = np.zeros((G, N, 12))
-        ZB = np.full((G, N, 12), np.inf)
-        WF = np.zeros((2, G, N, 12))
-        ZF = np.empty((2, G, N, 12))
-        ZF[0], ZF[1] = np.inf, -np.inf
         X = np.zeros((G, N + 1))
         for r, q in enumerate(group):
             a, b = offsets[q], offsets[q + 1]
             m = b - a
-            Q[r, :m], WB[r, :m], ZB[r, :m] = qb[a:b], wb[a:b], zb[a:b]
-            WF[:, r, :m], ZF[:, r, :m] = wf[:, a:b], zf[:, a:b]
             xm = np.minimum(np.append(cap_l[a:b], np.inf), np.insert(cap_r[a:b], 0, np.inf))
             xm[0] = xm[m] = 0.0
             X[r, : m + 1] = xm
-        x, bad = solve_lockstep(Q, WB, ZB, WF, ZF, X)
+        if path_amax is None:
+            Q = np.full((G, N), np.inf)
+            WB = np.zeros((G, N, 12))
+            ZB = np.full((G, N, 12), np.inf)
+            WF = np.zeros((2, G, N, 12))
+            ZF = np.empty((2, G, N, 12))
+            ZF[0], ZF[1] = np.inf, -np.inf
+            for r, q in enumerate(group):
+                a, b = offsets[q], offsets[q + 1]
+                m = b - a
+                Q[r, :m], WB[r, :m], ZB[r, :m] = qb[a:b], wb[a:b], zb[a:b]
+                WF[:, r, :m], ZF[:, r, :m] = wf[:, a:b], zf[:, a:b]
+            x, bad = solve_lockstep(Q, WB, ZB, WF, ZF, X)
+        else:
+            x, bad = _lockstep_vector(group, offsets, alpha, beta, gamma, cl, cr, dd, curved, X)
         for r, q in enumerate(group):
             sec = secs[q]
             if bad[r]:
@@ -182,16 +219,42 @@ def _solve_own(
             a, b = offsets[q], offsets[q + 1]
             m = b - a
             s_grid = np.append(arrays.start[iseg[a:b]] + lo[a:b], arrays.start[iseg[b - 1]] + hi[b - 1])
-            solved[sec.index] = _expand_lines(s_grid, x[r, : m + 1], iseg[a:b], arrays, d1l[a:b], f2[a:b], vmax, amax)
+            solved[sec.index] = _expand_lines(
+                s_grid, x[r, : m + 1], iseg[a:b], arrays, d1l[a:b], f2[a:b], vmax, amax, path_amax
+            )
         start = stop
     return solved, failed
 
 
+def _lockstep_vector(
+    group: np.ndarray, offsets: np.ndarray, alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray,
+    cl: np.ndarray, cr: np.ndarray, dd: np.ndarray, curved: np.ndarray, X: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Pad one group of sections and solve it with the vector-acceleration rows."""
+    G, N = X.shape[0], X.shape[1] - 1
+    AL = np.zeros((G, N, 12))
+    BE = np.zeros((G, N, 12))
+    GA = np.ones((G, N, 12))
+    CL = np.zeros((G, N))
+    CR = np.zeros((G, N))
+    DD = np.ones((G, N))
+    CU = np.zeros((G, N), dtype=bool)
+    for r, q in enumerate(group):
+        a, b = offsets[q], offsets[q + 1]
+        m = b - a
+        AL[r, :m], BE[r, :m], GA[r, :m] = alpha[a:b], beta[a:b], gamma[a:b]
+        CL[r, :m], CR[r, :m], DD[r, :m], CU[r, :m] = cl[a:b], cr[a:b], dd[a:b], curved[a:b]
+    return solve_lockstep_vector(AL, BE, GA, CL, CR, DD, CU, X)
+
+
 def _expand_lines(
     s: np.ndarray, x: np.ndarray, iseg: np.ndarray, arrays: PathArrays, d1: np.ndarray, f2: np.ndarray,
-    vmax: np.ndarray, amax: np.ndarray,
+    vmax: np.ndarray, amax: np.ndarray, path_amax: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Insert the exact ramp/cruise switch points on line intervals (closed form, spec §4.2)."""
+    """Insert the exact ramp/cruise switch points on line intervals (closed form, spec §4.2).
+
+    The ramps use the per-axis acceleration projected on the line, and at most ``path_amax``.
+    """
     m = iseg.shape[0]
     is_line = arrays.kind[iseg] == 0
     S = np.full((m, 3), np.nan)
@@ -201,6 +264,8 @@ def _expand_lines(
         with np.errstate(divide="ignore", over="ignore"):
             ad = np.abs(d1)
             acc = (amax[None, :] / ad).min(axis=1)
+            if path_amax is not None:
+                acc = np.minimum(acc, path_amax)
             xv = np.minimum(((vmax[None, :] / ad) ** 2).min(axis=1), f2)
         L = s[1:] - s[:-1]
         x0, x1 = x[:-1], x[1:]

@@ -6,11 +6,20 @@ constraint, per-axis acceleration limits, ``compute_parameterization(0, 0)`` on 
 ends of a section are tangent discontinuities or the path ends, so the speed is zero there), and
 the const-acceleration reading of the result (``ParametrizeConstAccel``'s model, which follows the
 path exactly). toppra is imported here only, inside the function.
+
+A vector acceleration limit ``A`` (``machine.path.amax_mm_s2``) is one more linear constraint: with
+``p'' = p'·s̈ + c·ṡ²`` written in the orthonormal frame of the tangent and the normal part of the
+curvature vector, ``|p''| ≤ A`` is a disc in the plane of ``(w₁, w₂) = (|p'|s̈ + (e₁·c)ṡ², |c⊥|ṡ²)``
+(``w₂ ≥ 0``); toppra gets the ``PATH_ACC_EDGES`` edges of the half of the inscribed regular
+polygon with vertices at ``(±A, 0)`` and ``(0, A)``, so the straight-line ramps and the
+maximum-velocity curve ``ṡ² = A/|c|`` stay exact and elsewhere at most ``1 − cos(π/(2·PATH_ACC_EDGES))``
+of ``A`` is given away.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -22,9 +31,16 @@ from trcopt.timing.grid import KNOT_EPS_MM, segment_grid
 from trcopt.timing.path import SectionPath
 from trcopt.timing.sections import Section
 
-__all__ = ["section_grid_toppra", "solve_section_toppra", "CURVED_ACC_MARGIN"]
+__all__ = [
+    "section_grid_toppra",
+    "solve_section_toppra",
+    "path_acceleration_rows",
+    "CURVED_ACC_MARGIN",
+    "PATH_ACC_EDGES",
+]
 
 CURVED_ACC_MARGIN = 0.9985
+PATH_ACC_EDGES = 32  # edges of the inscribed half polygon of the |a| ≤ A disc (even: a vertex at (0, A))
 
 
 def section_grid_toppra(path: SectionPath, feeds: np.ndarray, amin: float) -> np.ndarray:
@@ -51,8 +67,14 @@ def solve_section_toppra(
     vmax: np.ndarray,
     amax: np.ndarray,
     grid: np.ndarray | None = None,
+    *,
+    path_amax: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Solve one section with toppra; returns (section-local grid s, x = ṡ²).
+
+    ``feeds`` are the path-speed limits per segment (mm/s; the vector speed limit is already in
+    them), ``vmax``/``amax`` the per-axis limits and ``path_amax`` the optional limit on |a|
+    (mm/s²).
 
     Raises
     ------
@@ -66,12 +88,14 @@ def solve_section_toppra(
 
     segs = list(segments)
     path = SectionPath(segs)
-    if any(e.kind != "line" for e in path.evals):
+    curved = any(e.kind != "line" for e in path.evals)
+    if curved:
         # toppra checks the rows at grid points only; curvature turning inside an interval can
         # raise the per-axis acceleration between them (≤ 1/cos(Δθ/2) on arcs): keep a margin
         amax = amax * CURVED_ACC_MARGIN
     if grid is None:
-        grid = section_grid_toppra(path, feeds, float(amax.min()))
+        amin = float(amax.min()) if path_amax is None else min(float(amax.min()), path_amax)
+        grid = section_grid_toppra(path, feeds, amin)
     knots = path.knots
     d1 = path(grid, 1)
     idx = path.segment_index(grid)
@@ -94,8 +118,12 @@ def solve_section_toppra(
 
     pc_vel = constraint.JointVelocityConstraintVarying(vlim)
     pc_acc = constraint.JointAccelerationConstraint(np.stack((-amax, amax), axis=1))
+    constraints = [pc_vel, pc_acc]
+    if path_amax is not None:
+        limit = path_amax * CURVED_ACC_MARGIN if curved else path_amax
+        constraints.append(_path_acceleration_constraint(constraint, limit))
     instance = algo.TOPPRA(
-        [pc_vel, pc_acc], path, gridpoints=grid, solver_wrapper="seidel", parametrizer="ParametrizeConstAccel"
+        constraints, path, gridpoints=grid, solver_wrapper="seidel", parametrizer="ParametrizeConstAccel"
     )
     sdd, sd, _, K = instance.compute_parameterization(0.0, 0.0, return_data=True)
     if sd is None or not np.all(np.isfinite(sd)):
@@ -119,3 +147,46 @@ def solve_section_toppra(
     x = np.asarray(sd, dtype=float) ** 2
     x[0] = x[-1] = 0.0
     return grid, x
+
+
+def path_acceleration_rows(d1: np.ndarray, d2: np.ndarray, amax: float) -> tuple[np.ndarray, ...]:
+    """Canonical rows of ``|p'' | ≤ amax`` at grid points with derivatives ``d1 = p'``, ``d2 = p''``.
+
+    Returns toppra's ``(a, b, c, F, g)`` of a :class:`toppra.constraint.LinearConstraint` with
+    ``F``, ``g`` identical at every point: ``w = a·u + b·x + c`` are the coordinates of ``p''`` in
+    the frame (unit tangent e₁, unit normal part of ``d2``), and ``F w ≤ g`` the half polygon.
+    """
+    n = d1.shape[0]
+    speed = np.linalg.norm(d1, axis=1)
+    e1 = d1 / np.where(speed > 0, speed, 1.0)[:, None]
+    along = (e1 * d2).sum(axis=1)
+    normal = np.linalg.norm(d2 - along[:, None] * e1, axis=1)
+    a = np.zeros((n, 2))
+    b = np.zeros((n, 2))
+    a[:, 0] = speed
+    b[:, 0] = along
+    b[:, 1] = normal
+    m = PATH_ACC_EDGES
+    psi = (np.arange(m) + 0.5) * np.pi / m  # edge normals between the vertices kπ/m, k = 0..m
+    F = np.stack((np.cos(psi), np.sin(psi)), axis=1)
+    g = np.full(m, amax * np.cos(0.5 * np.pi / m))
+    return a, b, np.zeros((n, 2)), F, g
+
+
+def _path_acceleration_constraint(constraint: Any, amax: float) -> Any:
+    """A toppra linear constraint for ``|p''| ≤ amax`` (interpolation scheme, like the axis rows)."""
+
+    class PathAcceleration(constraint.LinearConstraint):
+        def __init__(self) -> None:
+            super().__init__()
+            self.dof = 3
+            self.identical = True
+            self.set_discretization_type(constraint.DiscretizationType.Interpolation)
+
+        def compute_constraint_params(self, path: Any, gridpoints: np.ndarray, *args: Any, **kwargs: Any) -> Any:
+            from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
+
+            a, b, c, F, g = path_acceleration_rows(path(gridpoints, 1), path(gridpoints, 2), amax)
+            return canlinear_colloc_to_interpolate(a, b, c, F, g, None, None, gridpoints, identical=True)
+
+    return PathAcceleration()

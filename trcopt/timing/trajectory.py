@@ -6,7 +6,8 @@ The profile is stored as grid points ``s_0 < … < s_M`` (mm) with squared path 
 follows the exact geometry and ``t_{i+1} − t_i = 2Δ_i/(ṡ_i + ṡ_{i+1})``.
 
 Besides the profile and its queries the class holds its limit check (sampled and at every grid
-end) and the plan-JSON ``timing`` object with the binding constraint per section. It satisfies the
+end; per-axis limits, the feed and the machine's vector limits) and the plan-JSON ``timing`` object
+with the binding constraint per section. It satisfies the
 :class:`~trcopt.trajectory.Trajectory` protocol; the CSV feed profile and the speed plot are
 written by :mod:`trcopt.io.feed_csv` and :func:`trcopt.io.plot.plot_speed`.
 """
@@ -22,17 +23,19 @@ from trcopt.codes import Code
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
-from trcopt.timing.checks import axis_triple, max_jerk, path_deviation
+from trcopt.timing.checks import PathLimitReport, axis_triple, max_jerk, path_deviation, path_ratios, worst
 from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section, axis_limits
-from trcopt.trajectory import LimitReport, Samples
+from trcopt.trajectory import Samples
 
 __all__ = ["MAX_SAMPLES", "TimedTrajectory", "sample_times"]
 
-# the constraints binding_constraints() names, in the column order of its table of ratios
+# the constraints binding_constraints() names, in the column order of its table of ratios; the
+# vector limits of the machine, where given, follow in the order of PATH_BINDING_NAMES
 BINDING_NAMES = (
     "feed", "velocity X", "velocity Y", "velocity Z", "acceleration X", "acceleration Y", "acceleration Z",
 )
+PATH_BINDING_NAMES = ("path velocity", "path acceleration")
 
 
 # the most samples one call of sample_times() returns: 3.6·10⁶, one hour of cycle at 1 ms (a feed
@@ -62,6 +65,18 @@ def sample_times(duration: float, dt: float) -> np.ndarray:
     if ts[-1] < duration:
         ts = np.append(ts, duration)
     return ts
+
+
+def _max_ratios(rep: PathLimitReport) -> dict[str, Any]:
+    """``max_ratios`` of the plan JSON: per axis v and a, feed, and ``path`` where vector limits are given."""
+    out: dict[str, Any] = {
+        "v": dict(zip("XYZ", rep.v_ratio, strict=True)),
+        "a": dict(zip("XYZ", rep.a_ratio, strict=True)),
+        "feed": rep.feed_ratio,
+    }
+    if rep.path_given:
+        out["path"] = rep.path_json()
+    return out
 
 
 class TimedTrajectory:
@@ -241,47 +256,67 @@ class TimedTrajectory:
         fr = float((smp.speed / self.feeds[smp.segment]).max()) if self.feeds.size else 0.0
         return vr, ar, fr
 
-    def check_limits(self, dt: float = 1e-4, tolerance: float = 1.001) -> LimitReport:
-        """Per-axis v and a, feed and corner speeds at ``dt`` sampling (s) and at every grid end.
+    def check_limits(self, dt: float = 1e-4, tolerance: float = 1.001) -> PathLimitReport:
+        """Per-axis v and a, feed, vector limits and corner speeds at ``dt`` sampling (s) and at every
+        grid end.
 
         ``tolerance`` is the largest ratio to a limit that passes; the sampled positions must
-        also lie on the exact geometry (≤ 1e-6 mm) and the corner speeds be ≤ 1e-6 mm/s.
+        also lie on the exact geometry (≤ 1e-6 mm) and the corner speeds be ≤ 1e-6 mm/s. The
+        vector limits of ``machine.path`` (path speed, |a|) are checked when given; the jerk of
+        this profile is unbounded and not checked.
         """
         if not self.segments:
-            return LimitReport(True, (0.0,) * 3, (0.0,) * 3, 0.0, 0.0, 0.0, tolerance, 0)
-        vr1, ar1, fr1 = self._ratios(self.sample(dt))
+            return PathLimitReport(True, (0.0,) * 3, (0.0,) * 3, 0.0, 0.0, 0.0, tolerance, 0)
+        smp = self.sample(dt)
+        vr1, ar1, fr1 = self._ratios(smp)
         grid = self.grid_states()
         vr2, ar2, fr2 = self._ratios(grid)
         vr, ar = np.maximum(vr1, vr2), np.maximum(ar1, ar2)
         fr = max(fr1, fr2)
+        pv, pa, _ = path_ratios(self.machine.path, smp, grid)
         corner = float(self.sd[self.section_points].max())
         assert self.arrays is not None
         dev = path_deviation(self.segments, self.arrays.start, grid)
+        path_worst = worst(pv, pa)
         ok = bool(
             vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
+            and (path_worst is None or path_worst <= tolerance)
         )
-        return LimitReport(ok, axis_triple(vr), axis_triple(ar), fr, corner, dev, tolerance, int(grid.t.shape[0]))
+        return PathLimitReport(
+            ok, axis_triple(vr), axis_triple(ar), fr, corner, dev, tolerance, int(grid.t.shape[0]),
+            path_v_ratio=pv, path_a_ratio=pa,
+        )
 
     def binding_constraints(self) -> list[str]:
         """Per section, the constraint active for the largest share of time.
 
         At the time midpoint of every grid interval the constraint with the largest ratio to its
-        limit (``feed``, ``velocity X``, ``acceleration Y``, …) is active; shares are weighted by
-        duration.
+        limit (``feed``, ``velocity X``, ``acceleration Y``, …, and where the machine gives them
+        ``path velocity``, ``path acceleration``) is active; shares are weighted by duration.
         """
         if not self.segments:
             return []
         vmax, amax = axis_limits(self.machine)
         tm = 0.5 * (self.t[:-1] + self.t[1:])
         smp = self.evaluate(tm)
-        ratios = np.column_stack((smp.speed / self.feeds[smp.segment], np.abs(smp.v) / vmax, np.abs(smp.a) / amax))
+        columns = [smp.speed / self.feeds[smp.segment], np.abs(smp.v) / vmax, np.abs(smp.a) / amax]
+        names = list(BINDING_NAMES)
+        path = self.machine.path
+        for name, limit, value in zip(
+            PATH_BINDING_NAMES, (path.vmax_mm_s, path.amax_mm_s2), (smp.speed, np.linalg.norm(smp.a, axis=1)),
+            strict=True,
+        ):
+            if limit is not None:
+                columns.append(value / limit)
+                names.append(name)
+        ratios = np.column_stack(columns)
         which = ratios.argmax(axis=1)
         w = np.diff(self.t)
         out = []
         for k in range(len(self.sections)):
             a, b = self.section_points[k], self.section_points[k + 1]
-            share = np.bincount(which[a:b], weights=w[a:b], minlength=len(BINDING_NAMES))
-            out.append(BINDING_NAMES[int(share.argmax())])
+            share = np.bincount(which[a:b], weights=w[a:b], minlength=len(names))
+            out.append(names[int(share.argmax())])
         return out
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
@@ -316,11 +351,7 @@ class TimedTrajectory:
                 "speed 0 at tangent discontinuities"
             ),
             "sections": sections,
-            "max_ratios": None if rep is None else {
-                "v": dict(zip("XYZ", rep.v_ratio, strict=True)),
-                "a": dict(zip("XYZ", rep.a_ratio, strict=True)),
-                "feed": rep.feed_ratio,
-            },
+            "max_ratios": None if rep is None else _max_ratios(rep),
             "limits_ok": None if rep is None else rep.ok,
             "max_jerk_mm_s3": dict(zip("XYZ", (float(j) for j in jerk), strict=True)),
             "max_jerk_ratio": {
