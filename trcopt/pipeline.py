@@ -195,6 +195,11 @@ class PlanResult:
                 + "), "
                 f"max deviation {corners['max_deviation_mm']:.4f} mm"
                 + (
+                    f" (vertex {corners['max_vertex_mm']:.4f} mm, contour {corners['max_contour_mm']:.4f} mm)"
+                    if corners.get("max_vertex_mm") is not None and corners.get("max_contour_mm") is not None
+                    else ""
+                )
+                + (
                     f"; under jerk limits the exact path is faster ({corners['exact_duration_s']:.3f} s vs "
                     f"{corners['transitions_duration_s']:.3f} s) and is kept"
                     if corners.get("kept") == "exact"
@@ -290,6 +295,8 @@ def _corners(result: PlanResult, moves: list[Move], opts: PlanOptions) -> tuple[
         return toolpath, toolpath
     from trcopt.optimize.corners.blend import blend_corners
 
+    if mode != corner_strategies.PROGRAM:
+        _check_tolerance(toolpath, control.tolerances, opts.tolerance_mm)
     objective = CornerObjective.JERK if opts.jerk and _has_xy_jerk(opts.machine) else CornerObjective.CURVATURE
     kinds = {s.kind for s in control.blends.values() if s.kind is not ToleranceKind.DISTANCE}
     kind = opts.tolerance_kind or (kinds.pop() if len(kinds) == 1 else ToleranceKind.CONTOUR)
@@ -331,6 +338,28 @@ def _corners(result: PlanResult, moves: list[Move], opts: PlanOptions) -> tuple[
         "corners": [_corner_json(c, toolpath) for c in blended.corners],
     }
     return toolpath, blended.segments
+
+
+def _check_tolerance(toolpath: list[Segment], program: dict[int, float], tolerance_mm: float) -> None:
+    """``--tolerance`` larger than half the shortest line it could blend (a corner without a
+    tolerance of the program's own) is a usage error naming the value and the line."""
+    from trcopt.optimize.corners.fillet import line_joints
+
+    shortest: tuple[float, Segment] | None = None
+    for k in line_joints(toolpath):
+        if k in program:
+            continue
+        for seg in (toolpath[k], toolpath[k + 1]):
+            if shortest is None or seg.geometry.length < shortest[0]:
+                shortest = (seg.geometry.length, seg)
+    if shortest is not None and tolerance_mm > 0.5 * shortest[0]:
+        length, seg = shortest
+        where = f"line {seg.span.line}" + (f" ({seg.span.block})" if seg.span.block else "")
+        raise TrcoptError(
+            f"--tolerance {tolerance_mm:g} mm is larger than half the shortest element it could blend "
+            f"({length:.6g} mm at {where}); choose at most {0.5 * length:.6g} mm",
+            code=Code.USAGE,
+        )
 
 
 def _corner_json(c: CornerRecord, toolpath: list[Segment]) -> dict[str, Any]:

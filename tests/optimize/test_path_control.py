@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from trcopt import PlanOptions, controllers, plan
@@ -17,7 +17,7 @@ from trcopt.errors import SourceSpan
 from trcopt.geometry import Line, Plane
 from trcopt.io.schema import validate_plan
 from trcopt.modes import PathMode, ToleranceKind
-from trcopt.optimize.corners.fillet import FilletSpec, blend_distances, fillet_path, line_joints
+from trcopt.optimize.corners.fillet import FilletSpec, blend_distances, blend_joints, fillet_path, line_joints
 from trcopt.optimize.corners.program import merge_collinear
 from trcopt.path import Role, Segment
 from trcopt.verify.deviation import measure_transitions
@@ -216,3 +216,41 @@ def test_cli_tolerance_kind_and_json(tmp_path) -> None:
         main(["plan", str(prog), "--tolerance-kind", "distance"])
     assert exc.value.code == 2
     assert np.isfinite(corners["max_contour_mm"])
+    # a tolerance larger than half the shortest line it could blend (the 2 mm steps) is a usage error
+    assert main(["plan", str(prog), "--corners", "arc", "--tolerance", "1.5", "--json", str(tmp_path / "x.json")]) == 2
+    assert not (tmp_path / "x.json").exists()
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(2.0, 15.0), st.floats(-2.5, 2.5), st.booleans()), min_size=2, max_size=8),
+    st.floats(0.002, 0.5),
+    st.sampled_from([ToleranceKind.CONTOUR, ToleranceKind.VERTEX]),
+)
+def test_line_arc_corners_of_a_g40_path_are_blended_within_tolerance(moves, tol, kind) -> None:
+    """Random G40 paths of lines and arcs (G2/G3 with R): every line–arc and arc–arc corner the
+    blends round stays within the tolerance, measured by sampling against the exact elements."""
+    lines, x, y, heading = ["G21 G17 G90 G40", "G0 X0 Y0", "G1 F3000 X5 Y0"], 5.0, 0.0, 0.0
+    for length, turn, arc in moves:
+        heading += turn
+        nx, ny = x + length * math.cos(heading), y + length * math.sin(heading)
+        lines.append(f"G{2 + int(turn > 0)} X{nx:.4f} Y{ny:.4f} R{length:.4f}" if arc else f"G1 X{nx:.4f} Y{ny:.4f}")
+        x, y = nx, ny
+    text = "\n".join([*lines, "M2"]) + "\n"
+    exact = plan(text, file="r.ngc", options=PlanOptions(corners="exact", timing=False, verify=False))
+    assume(exact.ok)
+    joints = blend_joints(exact.toolpath)
+    result = fillet_path(exact.toolpath, {k: FilletSpec(tol, kind) for k in joints})
+    measured = {m.joint: m for m in measure_transitions(exact.toolpath, result.segments, result.origin)}
+    for c in result.corners:
+        if not c.blended:
+            continue
+        m = measured[c.index]
+        got = m.vertex_mm if kind is ToleranceKind.VERTEX else m.contour_mm
+        assert got <= tol * (1 + 1e-3) + 1e-9
+    new = result.segments
+    for s1, s2 in zip(new, new[1:], strict=False):
+        assert math.dist(s1.geometry.end, s2.geometry.start) < 1e-7
+        if s1.role is Role.CORNER or s2.role is Role.CORNER:  # the blends join tangentially
+            t1, t2 = s1.geometry.derivatives(s1.geometry.length)[1], s2.geometry.derivatives(0.0)[1]
+            assert sum(u * v for u, v in zip(t1, t2, strict=True)) > 1 - 1e-9

@@ -23,7 +23,6 @@ programs this module writes.
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -33,6 +32,7 @@ from trcopt.geometry.plane import Plane
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec3
+from trcopt.io.gcode_check import check_gcode_arcs
 from trcopt.path import Role, Segment
 from trcopt.units import mm_s_to_mm_min
 
@@ -176,13 +176,18 @@ class _Writer:
 
     # -- motions --------------------------------------------------------------------------------
     def straight(self, g: str, end: Vec3, feed_mm_s: float | None, note: str | None) -> bool:
+        digits = self.decimals
         if g != "G0" and None not in self.pos:
             here = [float(c) for c in self.pos]  # type: ignore[arg-type]
-            if math.dist(here, end) < 0.5 * 10.0**-self.decimals:
+            length = math.dist(here, end)
+            if length < 0.5 * 10.0**-self.decimals:
                 # shorter than the output resolution (a sliver between two transitions): the
                 # written position is the end point to the digits written
                 return False
-        axes = self.axis_words(end, self.decimals)
+            if length < 100.0 * 10.0**-self.decimals:
+                # a short line between transitions keeps its direction: written to more digits
+                digits = MAX_DECIMALS
+        axes = self.axis_words(end, digits)
         if not axes:
             return False
         words = [g, *axes]
@@ -238,43 +243,29 @@ def _arc_block(
         h = (cu - mu) * nu + (cv - mv) * nv
         candidates.append((mu + h * nu, mv + h * nv))
         unit = 10.0**-d
+        tries: list[tuple[int, float, float, float, float, float]] = []  # (mismatch/nm, shift, I, J, r0, mismatch)
         for c_u, c_v in candidates:
-            # the written centre nearest to the bisector among the neighbours of the rounded one:
-            # start and end radius of the arc as read back then agree as well as the digits allow
+            # the written centres around the rounded one: the one nearest the bisector makes the
+            # start and end radius of the arc as read back agree as well as the digits allow
             i0, j0 = _round(c_u - s_u, d), _round(c_v - s_v, d)
-            best = None
             for di in (-2, -1, 0, 1, 2):
                 for dj in (-2, -1, 0, 1, 2):
                     i_try, j_try = _round(i0 + di * unit, d), _round(j0 + dj * unit, d)
                     r0 = math.hypot(i_try, j_try)
-                    r1 = math.hypot(e_u - s_u - i_try, e_v - s_v - j_try)
-                    key = (abs(r0 - r1), abs(di) + abs(dj))
-                    if best is None or key < best[0]:
-                        best = (key, i_try, j_try)
-            assert best is not None
-            i_off, j_off = best[1], best[2]
-            rc_u, rc_v = s_u + i_off, s_v + j_off
-            r0 = math.hypot(s_u - rc_u, s_v - rc_v)
-            r1 = math.hypot(e_u - rc_u, e_v - rc_v)
-            mismatch_ok = abs(r0 - r1) <= (tol_half if d == MAX_DECIMALS else min(tol_half, ARC_CONSISTENT_MM))
-            if r0 == 0.0 or not mismatch_ok:
-                continue
-            # the controller's arc must be the intended one: its points stay within the position
-            # rounding (plus the tolerance) of the exact arc; a nearly closed arc must not wrap
-            a0 = math.atan2(s_v - rc_v, s_u - rc_u)
-            a1 = math.atan2(e_v - rc_v, e_u - rc_u)
-            sweep = (a1 - a0) % (2 * math.pi) if sense > 0 else -((a0 - a1) % (2 * math.pi))
-            if sweep == 0.0:
-                continue
-            slack = w.tolerance + 10.0**-w.decimals
-            if any(
-                arc.distance2(
-                    (rc_u + r0 * math.cos(a0 + f * sweep), rc_v + r0 * math.sin(a0 + f * sweep))
-                )
-                > slack
-                for f in (0.25, 0.5, 0.75)
-            ):
-                continue
+                    if r0 > 0.0:
+                        r1 = math.hypot(e_u - s_u - i_try, e_v - s_v - j_try)
+                        mismatch = abs(r0 - r1)
+                        # equal mismatches (to a nanometre): the centre nearest the exact one
+                        shift = math.hypot(s_u + i_try - cu, s_v + j_try - cv)
+                        tries.append((math.floor(mismatch * 1e9), shift, i_try, j_try, r0, mismatch))
+        tries.sort()
+        found = next(
+            (t for t in tries if _intended(arc, s_u + t[2], s_v + t[3], t[4], s_u, s_v, e_u, e_v, sense, w)), None
+        )
+        chosen = None if found is None else (found[5], found[2], found[3], found[4])
+        limit = tol_half if d == MAX_DECIMALS else min(tol_half, ARC_CONSISTENT_MM)
+        if chosen is not None and chosen[0] <= limit:
+            i_off, j_off = chosen[1], chosen[2]
             words = w.plane_words(plane)
             words.append("G3" if sense > 0 else "G2")
             force = (ui, vi)
@@ -290,6 +281,25 @@ def _arc_block(
         done = _arc_block(w, plane, first, feed_mm_s, note, depth + 1)
         return _arc_block(w, plane, second, feed_mm_s, None if done else note, depth + 1) or done
     return w.straight("G1", end_xyz, feed_mm_s, note)
+
+
+def _intended(
+    arc: Arc, rc_u: float, rc_v: float, r0: float, s_u: float, s_v: float, e_u: float, e_v: float, sense: int,
+    w: _Writer,
+) -> bool:
+    """Whether the arc the controller reads (centre ``rc``, radius ``r0``, from the written start to
+    the written end in the sense of ``arc``) is the intended one: its points stay within the position
+    rounding (plus the tolerance) of ``arc``, and a nearly closed arc does not wrap."""
+    a0 = math.atan2(s_v - rc_v, s_u - rc_u)
+    a1 = math.atan2(e_v - rc_v, e_u - rc_u)
+    sweep = (a1 - a0) % (2 * math.pi) if sense > 0 else -((a0 - a1) % (2 * math.pi))
+    if sweep == 0.0:
+        return False
+    slack = w.tolerance + 10.0**-w.decimals
+    return all(
+        arc.distance2((rc_u + r0 * math.cos(a0 + f * sweep), rc_v + r0 * math.sin(a0 + f * sweep))) <= slack
+        for f in (0.25, 0.5, 0.75)
+    )
 
 
 def _close_gap(w: _Writer, seg: Segment, note: str) -> None:
@@ -433,69 +443,3 @@ def _fit_tolerance(value: object) -> float:
         raise GcodeError(f"fit_tolerance_mm must be a positive finite length in mm, got {value!r}")
     return tol
 
-
-# --------------------------------------------------------------------------------------------
-# independent re-reader
-# --------------------------------------------------------------------------------------------
-
-_WORD = re.compile(r"([A-Z])\s*([-+]?(?:\d+\.?\d*|\.\d+))")
-_PLANE_AXES = {"G17": (0, 1), "G18": (2, 0), "G19": (1, 2)}
-
-
-def _strip_comment(line: str) -> str:
-    line = re.sub(r"\([^)]*\)", " ", line)
-    return line.split(";", 1)[0]
-
-
-def check_gcode_arcs(text: str, tolerance_mm: float = 0.002) -> list[str]:
-    """Re-read G-code and report arcs whose start and end radius differ by more than a tolerance.
-
-    Reads the subset this module writes: absolute coordinates, G0/G1/G2/G3, G17/G18/G19, centre
-    words I/J/K incremental from the start, ``;`` and ``( )`` comments, N numbers. Returns one
-    message per bad arc (``line 12: G2 radius 10.0021 at start, 10.0000 at end (diff 0.0021 mm)``);
-    an arc whose start equals its end, or whose centre equals its start, is reported too.
-    """
-    pos: list[float | None] = [None, None, None]
-    plane = "G17"
-    motion: str | None = None
-    problems: list[str] = []
-    for lineno, raw in enumerate(text.splitlines(), start=1):
-        body = _strip_comment(raw).upper()
-        words = _WORD.findall(body)
-        if not words:
-            continue
-        gs = [float(v) for k, v in words if k == "G"]
-        for gv in gs:
-            name = f"G{gv:g}"
-            if name in _PLANE_AXES:
-                plane = name
-            elif name in ("G0", "G1", "G2", "G3"):
-                motion = name
-        values = {k: float(v) for k, v in words if k in "XYZIJK"}
-        has_axes = any(k in values for k in "XYZ")
-        if not has_axes:
-            continue
-        start = list(pos)
-        end = [values.get(n, pos[i]) for i, n in enumerate("XYZ")]
-        if motion in ("G2", "G3"):
-            a, b = _PLANE_AXES[plane]
-            if start[a] is None or start[b] is None:
-                problems.append(f"line {lineno}: {motion} from an unknown position")
-            else:
-                sa, sb = float(start[a]), float(start[b])  # type: ignore[arg-type]
-                ea, eb = float(end[a]), float(end[b])  # type: ignore[arg-type]
-                ca = sa + values.get(_CENTRE_WORDS[a], 0.0)
-                cb = sb + values.get(_CENTRE_WORDS[b], 0.0)
-                r0 = math.hypot(sa - ca, sb - cb)
-                r1 = math.hypot(ea - ca, eb - cb)
-                if abs(r0 - r1) > tolerance_mm:
-                    problems.append(
-                        f"line {lineno}: {motion} radius {r0:.6f} at start, {r1:.6f} at end "
-                        f"(diff {abs(r0 - r1):.6f} mm)"
-                    )
-                elif r0 == 0.0:
-                    problems.append(f"line {lineno}: {motion} with zero radius")
-                elif sa == ea and sb == eb:
-                    problems.append(f"line {lineno}: {motion} start equals end (full circle)")
-        pos = end
-    return problems

@@ -5,7 +5,8 @@ transition segment is sampled densely in space and measured against the exact el
 replaced, the two at its joint:
 
 * **contour distance** — the largest distance of a sample from the union of the two exact
-  elements (the Hausdorff distance from the new path to the exact one near the corner);
+  elements, lines or (plane) arcs (the Hausdorff distance from the new path to the exact one near
+  the corner);
 * **vertex distance** — the smallest distance from the exact corner point to the samples.
 
 The straight and circular pieces that a transition leaves in place lie on the exact elements and
@@ -60,6 +61,16 @@ def _line_distance(line: Line, pts: np.ndarray) -> np.ndarray:
     return np.linalg.norm(pts - (a + t[:, None] * d), axis=1)
 
 
+def _arc_distance(arc: Arc, pts: np.ndarray) -> np.ndarray:
+    """Plane distance of points (n×3, applicate ignored) from a flat arc."""
+    d = np.array([arc.distance2((float(p[0]), float(p[1]))) for p in pts])
+    return d
+
+
+def _distance(g: Line | Arc, pts: np.ndarray) -> np.ndarray:
+    return _line_distance(g, pts) if isinstance(g, Line) else _arc_distance(g, pts)
+
+
 def measure_transitions(
     exact: Sequence[Segment], blended: Sequence[Segment], origin: Sequence[int]
 ) -> list[CornerDeviation]:
@@ -80,10 +91,12 @@ def measure_transitions(
         if seg.role is not Role.CORNER or k + 1 >= len(exact):
             continue
         a, b = exact[k].geometry, exact[k + 1].geometry
-        if not (isinstance(a, Line) and isinstance(b, Line)) or isinstance(seg.geometry, Line):
+        if not (isinstance(a, Line | Arc) and isinstance(b, Line | Arc)) or isinstance(seg.geometry, Line):
+            continue
+        if (isinstance(a, Arc) or isinstance(b, Arc)) and not isinstance(seg.geometry, Arc | Poly):
             continue
         pts = _samples(seg, SAMPLES_PER_TRANSITION)
-        contour = float(np.max(np.minimum(_line_distance(a, pts), _line_distance(b, pts))))
+        contour = float(np.max(np.minimum(_distance(a, pts), _distance(b, pts))))
         vertex = float(np.min(np.linalg.norm(pts - np.array(a.end), axis=1)))
         out.append(CornerDeviation(k, contour, vertex))
     return out

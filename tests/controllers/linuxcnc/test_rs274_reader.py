@@ -181,9 +181,14 @@ def test_written_gcode_is_valid_rs274(variant: str) -> None:
     ]
     moved = [m for m in again.moves if m.kind is not MoveKind.NONE]
     assert moved[-1].end == pytest.approx(r.toolpath[-1].end_xyz, abs=1e-4)
-    # the re-read plain program runs through the pipeline unchanged (compensation off)
-    back = _plan(gcode)
+    # the re-read plain program runs through the pipeline unchanged (compensation off) …
+    back = _plan(gcode, corners="exact")
     assert back.ok
     ends = [s.end_xyz for s in back.toolpath]
     for seg in r.toolpath:
         assert min(math.dist(seg.end_xyz, e) for e in ends) < 1e-3
+    # … and with its continuous-path word (G64 P0.001 Q0, written when there are transition arcs:
+    # G42.1 has outside corners) the remaining sharp corners are rounded within 1 µm of their points
+    corners = _plan(gcode).extra.get("corners")
+    assert ("G64 P0.001 Q0" in gcode) == (variant == "G42.1") == (corners is not None)
+    assert corners is None or 0.0 < corners["max_vertex_mm"] <= 0.001 + 1e-12

@@ -1,4 +1,5 @@
-"""The ``arc`` corner strategy: the largest same-ε circular blend at every corner between two lines.
+"""The ``arc`` corner strategy: the largest same-ε circular blend at every corner between two lines
+(and, on a path without compensation, between a line and an arc or two arcs).
 
 The baseline of the optimised transitions, the usual controller smoothing, in closed form
 (:mod:`~trcopt.optimize.corners.fillet`): on a compensated path ε bounds the material left on the
@@ -11,7 +12,13 @@ tolerance kind says.
 from __future__ import annotations
 
 from trcopt.optimize.corners.assemble import TARGET_MARGIN
-from trcopt.optimize.corners.fillet import FilletSpec, cut_contour_spec, fillet_path, line_joints, turn_between
+from trcopt.optimize.corners.fillet import (
+    FilletSpec,
+    cut_contour_spec,
+    fillet_path,
+    line_joints,
+    turn_between,
+)
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
 from trcopt.path import Role

@@ -36,6 +36,7 @@ from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import CHORD_TOL_MM
 from trcopt.modes import ToleranceKind, TransitionKind
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
+from trcopt.optimize.corners.tangent_circle import distance_back, foot, intersections, joint_turn, offset_locus
 from trcopt.path import Role, Segment
 
 __all__ = [
@@ -46,6 +47,8 @@ __all__ = [
     "blend_distances",
     "cut_contour_spec",
     "fillet_path",
+    "blend_joints",
+    "element_joint",
     "line_joints",
     "rebuild_with_origin",
     "turn_angle3",
@@ -56,7 +59,7 @@ LINE_SHARE = 0.98  # the largest share of a line a blend may take when the line'
 MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
 TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
 MIN_TANGENT_MM = 1e-7  # a blend shorter than this on each line is no blend
-MIN_LINE_MM = 1e-4  # the shortest piece of a line left between two blends (unless they meet exactly)
+MIN_LINE_MM = 0.01  # the shortest piece of a line left between two blends (unless they meet exactly)
 _W_TOL = 1e-12  # a line lies in its plane when its applicate changes by less, mm
 
 
@@ -157,6 +160,13 @@ def line_joints(segments: Sequence[Segment]) -> list[int]:
     return out
 
 
+def blend_joints(segments: Sequence[Segment]) -> list[int]:
+    """The joints a circular blend can round: :func:`line_joints` and the line–arc and arc–arc
+    corners of one plane (:func:`element_joint`)."""
+    lines = set(line_joints(segments))
+    return sorted(lines | {k for k in range(len(segments) - 1) if k not in lines and element_joint(segments, k)})
+
+
 def cut_contour_spec(seg: Segment, turn: float, tolerance_mm: float) -> FilletSpec:
     """The blend that keeps the cut part within ``tolerance_mm`` at a corner of the compensated
     path ``seg`` ends in (turning by ``turn`` rad): see the module description; a corner of an
@@ -182,9 +192,10 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
     ok = set(line_joints(segs))
     wanted = sorted(specs)
     blended = [k for k in wanted if k in ok]
-    at = set(blended)
+    # every joint that may get a blend: a line it shares with another one gives each half of it
+    at = set(blended) | {k for k in wanted if k not in ok and element_joint(segs, k)}
     records: list[CornerRecord] = []
-    cuts: dict[int, tuple[float, Arc | Poly, float, float]] = {}  # joint → (tangent length, arc, vertex, contour)
+    cuts: dict[int, Cut] = {}  # joint → (cut from a, cut from b, blend, vertex, contour)
     # first the tangent length of every blend, then the slivers, then the geometry
     sizes: dict[int, tuple[float, float, float]] = {}  # joint → (turn, signed turn, tangent length)
     for k in blended:
@@ -216,7 +227,7 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
             continue
         blend = _flat_arc(a, b, T, r, phi_signed) if _flat(a, b) else _space_arc(a, b, T, r, phi)
         vertex, contour = blend_distances(r, phi)
-        cuts[k] = (T, blend, vertex, contour)
+        cuts[k] = (T, T, blend, vertex, contour)
         records.append(
             CornerRecord(
                 k, math.degrees(phi_signed), inside, True, spec.tolerance_mm or 0.0,
@@ -224,6 +235,13 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
                 vertex_mm=vertex, contour_mm=contour, radius_mm=r,
             )
         )  # fmt: skip
+    for k in sorted(set(wanted) - set(blended)):
+        found = _element_blend(segs, k, specs[k], at)
+        if found is None:
+            continue
+        cuts[k] = found[0]
+        records = [rec for rec in records if rec.index != k] + [found[1]]
+    records.sort(key=lambda rec: rec.index)
     out, origin = rebuild_with_origin(segs, cuts)
     deviation = 0.0
     for rec in records:
@@ -242,9 +260,9 @@ def _flat(a: Line, b: Line) -> bool:
 
 def _no_slivers(segs: Sequence[Segment], sizes: dict[int, tuple[float, float, float]]) -> None:
     """Shorten the blends at both ends of a line that would leave less than :data:`MIN_LINE_MM`
-    of it (but more than nothing) so that :data:`MIN_LINE_MM` stays: a line of a few nanometres
-    between two blends is no geometry a controller or the timing grid can use. Blends that meet
-    exactly (two halves of one line) stay."""
+    of it (but more than nothing) so that :data:`MIN_LINE_MM` stays: a line of a few micrometres
+    between two blends carries no motion a controller can use, and its direction does not survive
+    the digits of written G-code. Blends that meet exactly (two halves of one line) stay."""
     for k in sorted(sizes):
         if (k + 1) not in sizes:
             continue
@@ -305,8 +323,10 @@ def _why_not(segs: Sequence[Segment], k: int) -> str:
     if k + 1 >= len(segs):
         return "end of the path"
     a, b = segs[k].geometry, segs[k + 1].geometry
+    if not (isinstance(a, Line | Arc) and isinstance(b, Line | Arc)):
+        return "circular blends round corners between lines and arcs only"
     if not (isinstance(a, Line) and isinstance(b, Line)):
-        return "circular blends round corners between two lines only"
+        return "no circle tangent to both elements fits within the tolerance and their lengths"
     if segs[k].is_rapid or segs[k + 1].is_rapid:
         return "a rapid move is not blended"
     if segs[k].plane != segs[k + 1].plane:
@@ -319,15 +339,22 @@ def _why_not(segs: Sequence[Segment], k: int) -> str:
     return "not joined"
 
 
-def _rebuild(segs: list[Segment], cuts: dict[int, tuple[float, Arc | Poly, float, float]]) -> list[Segment]:
-    """The path with each line shortened by its blends' tangent lengths and the arcs inserted (role
+Cut = tuple[float, float, "Arc | Poly", float, float]  # (cut from a's end, from b's start, blend, vertex, contour)
+
+
+def _rebuild(segs: list[Segment], cuts: dict[int, Cut]) -> list[Segment]:
+    """The path with each element shortened by its blends' cuts and the blends inserted (role
     ``corner``, source span and feed of the following block)."""
     return rebuild_with_origin(segs, cuts)[0]
 
 
-def rebuild_with_origin(
-    segs: list[Segment], cuts: dict[int, tuple[float, Arc | Poly, float, float]]
-) -> tuple[list[Segment], list[int]]:
+def _cut_fraction(g: Line | Arc, length: float) -> float:
+    """The parameter share of ``length`` mm along ``g`` (3D length on a line, plane length on an arc)."""
+    total = g.length if isinstance(g, Line) else g.plane_length
+    return length / total
+
+
+def rebuild_with_origin(segs: list[Segment], cuts: dict[int, Cut]) -> tuple[list[Segment], list[int]]:
     """:func:`_rebuild`, and for every new segment the index of the old segment it comes from (a
     blend: the segment before its joint)."""
     if not cuts:
@@ -342,17 +369,125 @@ def rebuild_with_origin(
             out.append(seg)
             origin.append(i)
             continue
-        assert isinstance(g, Line)
-        length = g.length
-        t0 = before[0] / length if before is not None else 0.0
-        t1 = 1.0 - after[0] / length if after is not None else 1.0
-        start = before[1].end if before is not None else g.start
-        end = after[1].start if after is not None else g.end
-        if (t1 - t0) * length > 1e-12 * length:
-            out.append(seg.with_geometry(Line(start, end)))
+        assert isinstance(g, Line | Arc)
+        t0 = _cut_fraction(g, before[1]) if before is not None else 0.0
+        t1 = 1.0 - _cut_fraction(g, after[0]) if after is not None else 1.0
+        if t1 - t0 > 1e-12:
+            piece = g.sub(t0, t1)
+            if isinstance(piece, Line):  # the blends' end points exactly
+                start = before[2].end if before is not None else g.start
+                piece = Line(start, after[2].start if after is not None else g.end)
+            out.append(seg.with_geometry(piece))
             origin.append(i)
         if after is not None:
             nxt = segs[i + 1]
-            out.append(replace(nxt, geometry=after[1], role=Role.CORNER))
+            out.append(replace(nxt, geometry=after[2], role=Role.CORNER))
             origin.append(i)
     return out, origin
+
+
+# ------------------------------------------------------------------------------ line–arc, arc–arc
+def element_joint(segs: Sequence[Segment], k: int) -> bool:
+    """A corner between a line and an arc or two arcs of one plane at one applicate (feeds, same
+    compensation), turning by more than :data:`TANGENT_TOL_RAD` and at most :data:`MAX_TURN_RAD`."""
+    s1, s2 = segs[k], segs[k + 1]
+    g1, g2 = s1.geometry, s2.geometry
+    if not (isinstance(g1, Line | Arc) and isinstance(g2, Line | Arc)):
+        return False
+    if isinstance(g1, Line) and isinstance(g2, Line):
+        return False
+    if s1.is_rapid or s2.is_rapid or s1.plane != s2.plane or s1.side != s2.side or s1.radius != s2.radius:
+        return False
+    flat = all(abs(g.start[2] - g.end[2]) <= _W_TOL and g.plane_length > 1e-9 for g in (g1, g2))
+    if not flat or abs(g1.end[2] - g2.start[2]) > _W_TOL or math.dist(g1.end, g2.start) > 1e-9:
+        return False
+    turn = abs(joint_turn(g1, g2))
+    return TANGENT_TOL_RAD < turn <= MAX_TURN_RAD
+
+
+def _contour_distance(arc: Arc, a: Line | Arc, b: Line | Arc, samples: int = 17) -> float:
+    """The largest distance of ``arc`` from the union of ``a`` and ``b``: the larger of the sampled
+    maximum and the points where the distances to ``a`` and to ``b`` are equal (the maximum of a
+    minimum of two distances lies there unless one of them peaks on its own), found by bisection."""
+    def gap(t: float) -> tuple[float, float]:
+        p = arc.point2(t)
+        return a.distance2(p), b.distance2(p)
+
+    ts = [i / (samples - 1) for i in range(samples)]
+    values = [gap(t) for t in ts]
+    best = max(min(da, db) for da, db in values)
+    pairs = list(zip(ts, values, strict=True))
+    for (t0, (a0, b0)), (t1, (a1, b1)) in zip(pairs, pairs[1:], strict=False):
+        if (a0 - b0) * (a1 - b1) > 0.0:
+            continue
+        lo, hi, sign = t0, t1, a0 - b0
+        for _ in range(50):
+            mid = 0.5 * (lo + hi)
+            da, db = gap(mid)
+            if (da - db) * sign > 0.0:
+                lo = mid
+            else:
+                hi = mid
+        da, db = gap(0.5 * (lo + hi))
+        best = max(best, min(da, db))
+    return best
+
+
+def _element_blend(
+    segs: Sequence[Segment], k: int, spec: FilletSpec, shared: set[int]
+) -> tuple[Cut, CornerRecord] | None:
+    """The largest circular blend within ``spec`` at a line–arc or arc–arc corner ``k``: the circle
+    tangent to both elements on the inside of the turn, its radius found by bisection (the
+    distances grow with it); None when the joint is not such a corner or no blend fits."""
+    if not element_joint(segs, k):
+        return None
+    a, b = segs[k].geometry, segs[k + 1].geometry
+    assert isinstance(a, Line | Arc) and isinstance(b, Line | Arc)
+    turn = joint_turn(a, b)
+    side = 1.0 if turn > 0 else -1.0
+    avail_a = a.plane_length * (0.5 if (k - 1) in shared else LINE_SHARE)
+    avail_b = b.plane_length * (0.5 if (k + 1) in shared else LINE_SHARE)
+    spec = spec.bounded(a.plane_length, b.plane_length)
+    J = (a.end[0], a.end[1])
+    w = a.end[2]
+
+    def build(r: float) -> tuple[float, float, Arc, float, float] | None:
+        found = intersections(offset_locus(a, side, r), offset_locus(b, side, r))
+        if not found:
+            return None
+        c = min(found, key=lambda p: math.dist(p, J))
+        pa, pb = foot(a, c), foot(b, c)
+        cut_a, cut_b = distance_back(a, pa, True), distance_back(b, pb, False)
+        if cut_a is None or cut_b is None or cut_a > avail_a or cut_b > avail_b:
+            return None
+        arc = Arc.from_points((pa[0], pa[1], w), (pb[0], pb[1], w), c, side > 0, False)
+        if abs(arc.sweep) > abs(turn) + 1e-6:
+            return None  # the circle on the wrong branch
+        vertex = math.dist(c, J) - r
+        return cut_a, cut_b, arc, vertex, _contour_distance(arc, a, b)
+
+    def fits(r: float) -> tuple[float, float, Arc, float, float] | None:
+        got = build(r)
+        if got is None or spec.tolerance_mm is None:
+            return got
+        measure = {ToleranceKind.VERTEX: got[3], ToleranceKind.CONTOUR: got[4]}.get(spec.kind, max(got[0], got[1]))
+        return got if measure <= spec.tolerance_mm else None
+
+    hi = min(spec.max_radius_mm, 4.0 * max(avail_a, avail_b) / max(math.tan(0.5 * abs(turn)), 1e-12))
+    lo, best = 0.0, None
+    for _ in range(48):
+        mid = 0.5 * (lo + hi)
+        got = fits(mid)
+        if got is not None:
+            lo, best = mid, (mid, got)
+        else:
+            hi = mid
+    if best is None or min(best[1][0], best[1][1]) < MIN_TANGENT_MM:
+        return None
+    r, (cut_a, cut_b, arc, vertex, contour) = best
+    inside = segs[k].radius > 0.0 and _inside(segs[k], turn)
+    record = CornerRecord(
+        k, math.degrees(turn), inside, True, spec.tolerance_mm or 0.0, max_curvature=1.0 / r,
+        span_mm=cut_a + cut_b, transition=TransitionKind.ARC, vertex_mm=vertex, contour_mm=contour, radius_mm=r,
+    )  # fmt: skip
+    return (cut_a, cut_b, arc, vertex, contour), record

@@ -21,7 +21,7 @@ from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
 from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
-from trcopt.optimize.corners.fillet import FilletSpec, fillet_path, line_joints
+from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.selection import fastest
@@ -60,7 +60,7 @@ def _free_blends(job: CornerJob) -> CornerResult:
     segs = list(job.toolpath)
     specs = {
         k: FilletSpec((1.0 - TARGET_MARGIN) * job.tolerance_at(k), job.kind)
-        for k in line_joints(segs)
+        for k in blend_joints(segs)
         if segs[k].radius == 0.0
     }
     return fillet_path(segs, specs, job.strategy) if specs else job.unchanged()

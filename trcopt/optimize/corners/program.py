@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from trcopt.geometry import Line
 from trcopt.modes import PathMode, ToleranceKind
 from trcopt.nc.model import EXACT_PATH, Move, PathControl
-from trcopt.optimize.corners.fillet import FilletSpec, fillet_path
+from trcopt.optimize.corners.fillet import FilletSpec, element_joint, fillet_path
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
 from trcopt.path import Segment
@@ -105,6 +105,8 @@ def path_control_plan(
                 blends[k] = spec
             elif _rounded_as_smooth(seg, nxt, spec):
                 smooth.add(k)
+            elif element_joint(toolpath, k):
+                blends[k] = spec  # a line–arc or arc–arc corner: the circle tangent to both
     return PathControlPlan(blends, frozenset(stops), tuple(words), frozenset(smooth))
 
 

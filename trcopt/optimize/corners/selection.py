@@ -10,6 +10,7 @@ circular blends.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -63,10 +64,19 @@ def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> Corn
             if t_h < t_best:
                 best, t_best = hybrid, t_h
     if best is arc:
-        # keep the G2 solutions in the records: the report says why each corner is circular
-        every = plan.sites or single
-        best = assemble(segs, every, eps_of, solved, job.strategy, {k: TransitionKind.ARC for k, _ in every})
-        best.max_deviation_mm = arc.max_deviation_mm
+        # the closed-form circular blends, with the G2 solutions in the records: the report says
+        # why each corner is circular
+        every = dict(plan.sites or single)
+        best.corners = [
+            replace(
+                c,
+                solution=solved.get((c.index, eps_of[c.index])),
+                reason=c.reason or "circular blends everywhere are faster than the G2 transitions (timed)",
+            )
+            if c.index in every and c.index in eps_of
+            else c
+            for c in arc.corners
+        ]
     best.mode = job.strategy
     return best
 
