@@ -145,6 +145,7 @@ class Code(enum.StrEnum):
     TIMING_TOPPRA = "TIMING-TOPPRA"
     TIMING_JERK_GRID = "TIMING-JERK-GRID"
     TIMING_JERK_SOLVER = "TIMING-JERK-SOLVER"
+    TIMING_LIMITS = "TIMING-LIMITS"
     # --- optimisation ----------------------------------------------------------------------------
     SOLVER = "SOLVER"
     SOLVER_INFEASIBLE = "SOLVER-INFEASIBLE"
@@ -275,6 +276,7 @@ MEANING: dict[Code, str] = {
     Code.TIMING_TOPPRA: "toppra failed on a polynomial section",
     Code.TIMING_JERK_GRID: "the jerk-limited problem of a section has a degenerate grid",
     Code.TIMING_JERK_SOLVER: "IPOPT failed on a jerk-limited section (the acceleration-limited feed is kept)",
+    Code.TIMING_LIMITS: "the acceleration-limited feed, re-checked between its grid points, exceeds a machine limit",
     Code.SOLVER: "an optimisation problem failed",
     Code.SOLVER_INFEASIBLE: "an optimisation problem is infeasible (the binding constraint is named)",
     Code.VERIFY_RADIUS: "warning (--strict: error): a compensated tool-centre element is not at the tool radius "

@@ -15,7 +15,7 @@ from trcopt.codes import Code, family
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from trcopt.modes import CornerObjective, ToleranceKind, ToolUnit, TransitionKind, parse_enum
+from trcopt.modes import CornerObjective, ToleranceKind, ToolUnit, parse_enum
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
@@ -23,7 +23,6 @@ from trcopt.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from trcopt.controllers.base import Controller
-    from trcopt.optimize.corners.records import CornerRecord
 
 __all__ = ["PlanOptions", "PlanResult", "plan", "plan_file"]
 
@@ -280,104 +279,26 @@ def plan(
 def _corners(result: PlanResult, moves: list[Move], opts: PlanOptions) -> tuple[list[Segment], list[Segment]]:
     """The exact tool path (with the program's exact stops) and the path with the corners the
     options ask for (see :class:`PlanOptions`; the same list when no corner is rounded), and the
-    ``corners`` report in ``result.extra`` when a strategy ran."""
-    from trcopt.optimize.corners.program import merge_collinear, path_control_plan, with_stops
+    ``corners`` report in ``result.extra`` when a strategy ran
+    (:func:`trcopt.optimize.corners.apply.apply_corners`)."""
+    from trcopt.optimize.corners.apply import apply_corners
 
-    toolpath = result.toolpath
-    mode = opts.corners
-    if mode == corner_strategies.PROGRAM:
-        toolpath = merge_collinear(toolpath, moves)  # LinuxCNC G64 Q: the controller's own path
-    control = path_control_plan(toolpath, moves, opts.tolerance_kind)
-    if mode in (corner_strategies.PROGRAM, corner_strategies.EXACT) and (control.stops or control.smooth):
-        smooth = control.smooth if mode == corner_strategies.PROGRAM else frozenset()
-        toolpath = with_stops(toolpath, control.stops, smooth)
-    if mode == corner_strategies.EXACT or (mode == corner_strategies.PROGRAM and not control.blends):
-        return toolpath, toolpath
-    from trcopt.optimize.corners.blend import blend_corners
-
-    if mode != corner_strategies.PROGRAM:
-        _check_tolerance(toolpath, control.tolerances, opts.tolerance_mm)
     objective = CornerObjective.JERK if opts.jerk and _has_xy_jerk(opts.machine) else CornerObjective.CURVATURE
-    kinds = {s.kind for s in control.blends.values() if s.kind is not ToleranceKind.DISTANCE}
-    kind = opts.tolerance_kind or (kinds.pop() if len(kinds) == 1 else ToleranceKind.CONTOUR)
-    blended = blend_corners(
-        toolpath,
+    exact, blended, report = apply_corners(
+        result.toolpath,
         result.programmed,
+        moves,
+        mode=opts.corners,
         tolerance_mm=opts.tolerance_mm,
+        tolerance_kind=opts.tolerance_kind,
         machine=opts.machine,
-        mode=mode,
         workers=opts.workers,
         select=not opts.jerk,
-        # under jerk limits the transitions minimise the curvature rate as well (needs X/Y jerk
-        # limits; without them the jerk stage warns and the acceleration-limited feed is kept)
         objective=objective,
-        # runs of small deflections become one G2 spline in both modes (benchmarks/JERK.md)
-        chains=True,
-        kind=kind,
-        tolerances=control.tolerances,
-        program=control.blends,
     )
-    records = [c for c in blended.corners if c.blended]
-    vertex = [c.vertex_mm for c in records if c.vertex_mm is not None]
-    contour = [c.contour_mm for c in records if c.contour_mm is not None]
-    tolerances = set(control.tolerances.values())
-    result.extra["corners"] = {
-        "mode": mode,
-        "tolerance_mm": opts.tolerance_mm if mode != corner_strategies.PROGRAM or not tolerances else min(tolerances),
-        "tolerance_kind": kind.value,
-        "path_control": list(control.words),
-        "objective": None if blended.objective is None else blended.objective.value,
-        "blended": blended.blended,
-        "quintic": blended.count(TransitionKind.QUINTIC),
-        "spline": blended.count(TransitionKind.SPLINE),
-        "curvature_jumps": blended.curvature_jumps,
-        "arc": blended.count(TransitionKind.ARC),
-        "max_deviation_mm": blended.max_deviation_mm,
-        "max_vertex_mm": max(vertex, default=None),
-        "max_contour_mm": max(contour, default=None),
-        "corners": [_corner_json(c, toolpath) for c in blended.corners],
-    }
-    return toolpath, blended.segments
-
-
-def _check_tolerance(toolpath: list[Segment], program: dict[int, float], tolerance_mm: float) -> None:
-    """``--tolerance`` larger than half the shortest line it could blend (a corner without a
-    tolerance of the program's own) is a usage error naming the value and the line."""
-    from trcopt.optimize.corners.fillet import line_joints
-
-    shortest: tuple[float, Segment] | None = None
-    for k in line_joints(toolpath):
-        if k in program:
-            continue
-        for seg in (toolpath[k], toolpath[k + 1]):
-            if shortest is None or seg.geometry.length < shortest[0]:
-                shortest = (seg.geometry.length, seg)
-    if shortest is not None and tolerance_mm > 0.5 * shortest[0]:
-        length, seg = shortest
-        where = f"line {seg.span.line}" + (f" ({seg.span.block})" if seg.span.block else "")
-        raise TrcoptError(
-            f"--tolerance {tolerance_mm:g} mm is larger than half the shortest element it could blend "
-            f"({length:.6g} mm at {where}); choose at most {0.5 * length:.6g} mm",
-            code=Code.USAGE,
-        )
-
-
-def _corner_json(c: CornerRecord, toolpath: list[Segment]) -> dict[str, Any]:
-    """One corner of the ``corners`` report (the joint's source block is the block that ends there)."""
-    span = toolpath[c.index].span
-    return {
-        "joint": c.index,
-        "line": span.line,
-        "block": span.block,
-        "turn_deg": round(c.turn_deg, 9),
-        "blended": c.blended,
-        "transition": None if c.transition is None else c.transition.value,
-        "tolerance_mm": c.tolerance_mm,
-        "radius_mm": c.radius_mm,
-        "vertex_mm": c.vertex_mm,
-        "contour_mm": c.contour_mm,
-        "reason": c.reason,
-    }
+    if report is not None:
+        result.extra["corners"] = report
+    return exact, blended
 
 
 def _keep_the_faster_under_jerk(
@@ -438,6 +359,7 @@ def _attach_toolholder(result: PlanResult) -> None:
 
 
 JERK_CHECK_DT_S = 2e-4  # sampling of the limit check of a jerk-limited feed
+ACCELERATION_CHECK_DT_S = 1e-3  # sampling of the limit check of the acceleration-limited feed (as the JSON's)
 
 
 def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, workers: int = 1) -> None:
@@ -451,6 +373,18 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
         _timing_warning(result, exc, "timing not computed")
         return
     result.timing = acceleration_limited
+    # never silently wrong: the profile is re-checked against every limit between its grid points
+    rep = acceleration_limited.check_limits(ACCELERATION_CHECK_DT_S)
+    if not rep.ok:
+        from trcopt.errors import TimingError
+
+        msg = (
+            f"the acceleration-limited feed exceeds a limit between its grid points: acceleration "
+            f"{max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f}, feed {rep.feed_ratio:.4f} × the limit "
+            "(the cycle time is optimistic there; JSON timing.max_ratios)"
+        )
+        span = _worst_sample_span(acceleration_limited, machine)
+        _timing_warning(result, TimingError(msg, span, Code.TIMING_LIMITS), "timing check")
     if jerk:
         from trcopt.timing.jerk import jerk_limited
 
@@ -470,6 +404,18 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
                 f"acceleration {max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f} × the machine limit"
             )
             _timing_warning(result, TimingError(msg), "jerk-limited feed check")
+
+
+def _worst_sample_span(trajectory: Trajectory, machine: Machine) -> SourceSpan | None:
+    """The source block of the sample whose acceleration is largest against the axis limits."""
+    import numpy as np
+
+    smp = trajectory.sample(ACCELERATION_CHECK_DT_S)
+    amax = np.array([machine.axis(k).amax_mm_s2 for k in "XYZ"])
+    if not len(smp.segment):
+        return None
+    worst = int(np.argmax((np.abs(smp.a) / amax).max(axis=1)))
+    return trajectory.segments[int(smp.segment[worst])].span
 
 
 def _timing_warning(result: PlanResult, exc: TrcoptError, what: str) -> None:

@@ -11,6 +11,8 @@ interval (the direction of an arc's tangent and normal). Both are controlled her
   arc's centripetal acceleration matters (``F² > ½·a_min·ρ``) and ``Δθ ≤ DTHETA_FEED`` (0.1 rad)
   where the feed binds; the acceleration rows of an arc interval are tightened by ``cos(Δθ/2)``
   so the per-axis acceleration inside the interval stays below the limit as well;
+* **curves** (Poly): spacing ≤ ``POLY_CAP_MM`` and at most ``DTHETA_ACC`` of the curve's turning
+  per interval (measured between its samples), so a short transition's curvature peak is on the grid;
 * **lines** need no interior points in the own solver (the exact profile on a line is the min of
   two ramps and the cruise speed, reconstructed in closed form afterwards); for toppra they get
   the ramp-zone rule with a cap of ``LINE_CAP_MM``;
@@ -96,4 +98,13 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine
         hcap = length / n_min
         grid = _graded(length, min(h0, hcap), ramp, hcap)
         return grid, rate
-    return _graded(length, min(h0, POLY_CAP_MM), ramp, POLY_CAP_MM), 0.0
+    # a curve turns where its curvature peaks: the same angle cap as on an arc where the
+    # centripetal acceleration matters, from the turning between the curve's own samples
+    hcap = POLY_CAP_MM
+    g = ev.segment.geometry
+    tangents = np.asarray(getattr(g, "tangents", ()), dtype=float)
+    if tangents.shape[0] >= 2:
+        cosines = np.clip(np.einsum("ij,ij->i", tangents[:-1], tangents[1:]), -1.0, 1.0)
+        turn = float(np.arccos(cosines).sum())
+        hcap = min(hcap, length / max(1, math.ceil(turn / DTHETA_ACC)))
+    return _graded(length, min(h0, hcap), ramp, hcap), 0.0

@@ -1,0 +1,89 @@
+"""Corner transitions at CAM scale: corners per second and peak memory of the closed-form circular
+blends (``--corners arc`` and the program's blending modes) on CAM polylines of 200 to 100 000 chords.
+
+Run:  python benchmarks/bench_cam_scale.py [--sizes 200,1000,10000,100000] [--timing-up-to 10000]
+
+Each row plans one generated closed freeform contour (r(t) = 30 + 5·sin 5t + 2·cos 11t mm, N chords,
+F6000) written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
+the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
+stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, mode ``arc``, ε = 0.01 mm) gives
+the corners per second and its peak Python memory (tracemalloc); up to ``--timing-up-to`` chords
+the acceleration-limited cycle times of both paths are added.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from trcopt.optimize.corners.blend import blend_corners  # noqa: E402
+from trcopt.pipeline import PlanOptions, plan  # noqa: E402
+from trcopt.timing import time_parameterize  # noqa: E402
+
+
+def contour(chords: int, compensated: bool) -> str:
+    """The closed freeform contour as ``chords`` G1 moves (LinuxCNC)."""
+    out = ["G21 G17 G90 G40 F6000", "G0 X50 Y0 Z1", "G1 Z0"]
+    pts = []
+    for i in range(chords + 1):
+        t = 2 * math.pi * i / chords
+        r = 30 + 5 * math.sin(5 * t) + 2 * math.cos(11 * t)
+        pts.append((r * math.cos(t), r * math.sin(t)))
+    if compensated:
+        out.append(f"G41.1 D2 G1 X{pts[0][0]:.5f} Y{pts[0][1]:.5f}")
+    else:
+        out.append(f"G1 X{pts[0][0]:.5f} Y{pts[0][1]:.5f}")
+    out += [f"G1 X{x:.5f} Y{y:.5f}" for x, y in pts[1:]]
+    if compensated:
+        out.append("G40 G1 X50 Y0")
+    return "\n".join([*out, "G0 Z5", "M2"]) + "\n"
+
+
+def row(chords: int, compensated: bool, with_timing: bool) -> str:
+    text = contour(chords, compensated)
+    t0 = time.perf_counter()
+    exact = plan(text, file="cam.ngc", options=PlanOptions(corners="exact", timing=False, verify=True))
+    t_exact = time.perf_counter() - t0
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    blended = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=0.01, mode="arc")
+    t_corners = time.perf_counter() - t0
+    peak = tracemalloc.get_traced_memory()[1] / 2**20
+    tracemalloc.stop()
+    n = blended.blended
+    cycle = ""
+    if with_timing:
+        t_ex = time_parameterize(exact.toolpath).duration
+        t_bl = time_parameterize(blended.segments).duration
+        cycle = f"{t_ex:.3f} | {t_bl:.3f} | {t_ex / t_bl:.2f}"
+    else:
+        cycle = "– | – | –"
+    kind = "G41.1 D2" if compensated else "G40"
+    return (
+        f"| {chords} | {kind} | {t_exact:.2f} | {n} | {t_corners:.3f} | {n / max(t_corners, 1e-9):,.0f} | "
+        f"{peak:.1f} | {blended.max_deviation_mm:.4f} | {cycle} |"
+    )
+
+
+def main(argv: list[str]) -> None:
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("--sizes", default="200,1000,10000,100000", help="chord counts (comma separated)")
+    parser.add_argument("--timing-up-to", type=int, default=10000, help="time the paths up to this many chords")
+    args = parser.parse_args(argv)
+    print("| chords | path | exact plan s (baseline, no timing) | corners blended | corner stage s | corners/s "
+          "| corner stage peak MiB | max deviation mm | exact cycle s | blended cycle s | speed-up |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for chords in (int(x) for x in args.sizes.split(",")):
+        for compensated in (False, True):
+            print(row(chords, compensated, chords <= args.timing_up_to), flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
