@@ -3,8 +3,8 @@ blends (``--corners arc`` and the program's blending modes) on CAM polylines of 
 
 Run:  python benchmarks/bench_cam_scale.py [--sizes 200,1000,10000,100000] [--timing-up-to 10000]
 
-Each row plans one generated closed freeform contour (r(t) = 30 + 5·sin 5t + 2·cos 11t mm, N chords,
-F6000) written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
+Each row plans one generated closed freeform contour (r(t) = c·(30 + 5·sin 5t + 2·cos 11t) mm, N chords,
+c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm or longer, F6000) written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
 the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
 stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, mode ``arc``, ε = 0.01 mm) gives
 the corners per second and its peak Python memory (tracemalloc); up to ``--timing-up-to`` chords
@@ -32,9 +32,10 @@ def contour(chords: int, compensated: bool) -> str:
     """The closed freeform contour as ``chords`` G1 moves (LinuxCNC)."""
     out = ["G21 G17 G90 G40 F6000", "G0 X50 Y0 Z1", "G1 Z0"]
     pts = []
+    scale = max(1.0, chords * 0.25 / (2 * math.pi * 30))  # chords of about 0.25 mm and more
     for i in range(chords + 1):
         t = 2 * math.pi * i / chords
-        r = 30 + 5 * math.sin(5 * t) + 2 * math.cos(11 * t)
+        r = scale * (30 + 5 * math.sin(5 * t) + 2 * math.cos(11 * t))
         pts.append((r * math.cos(t), r * math.sin(t)))
     if compensated:
         out.append(f"G41.1 D2 G1 X{pts[0][0]:.5f} Y{pts[0][1]:.5f}")
