@@ -119,8 +119,8 @@ points_3d = st.lists(
 
 
 @settings(max_examples=60, deadline=None)
-@given(points_3d, st.floats(0.001, 2.0), st.sampled_from(list(ToleranceKind)), st.booleans())
-def test_blends_stay_within_their_tolerance_measured_independently(points, tol, kind, flat) -> None:
+@given(points_3d, st.floats(0.001, 2.0), st.sampled_from(list(ToleranceKind)), st.booleans(), st.booleans())
+def test_blends_stay_within_their_tolerance_measured_independently(points, tol, kind, flat, g2) -> None:
     if flat:
         points = [(x, y, 0.0) for x, y, _ in points]
     kept = [points[0]]
@@ -129,9 +129,14 @@ def test_blends_stay_within_their_tolerance_measured_independently(points, tol, 
             kept.append(p)
     segs = _polyline(kept)
     joints = line_joints(segs)
-    result = fillet_path(segs, {k: FilletSpec(tol, kind) for k in joints})
+    # g2: the curvature-continuous B-spline transitions (zero curvature where they meet the lines)
+    result = fillet_path(segs, {k: FilletSpec(tol, kind) for k in joints}, g2=g2)
     measured = {m.joint: m for m in measure_transitions(segs, result.segments, result.origin)}
     blended = [c for c in result.corners if c.blended]
+    for s_ in result.segments:
+        if g2 and s_.role is Role.CORNER:
+            curv = s_.geometry.curvatures
+            assert max(map(abs, curv[0] + curv[-1])) < 1e-9
     assert set(measured) == {c.index for c in blended}
     for c in blended:
         m = measured[c.index]

@@ -35,6 +35,7 @@ import numpy as np
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import CHORD_TOL_MM
 from trcopt.modes import ToleranceKind, TransitionKind
+from trcopt.optimize.corners.bspline_corner import bspline_corner, bspline_distances, spacing_for
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.tangent_circle import distance_back, foot, intersections, joint_turn, offset_locus
 from trcopt.path import Role, Segment
@@ -181,9 +182,13 @@ def cut_contour_spec(seg: Segment, turn: float, tolerance_mm: float) -> FilletSp
     return FilletSpec(None, ToleranceKind.CONTOUR, seg.radius)
 
 
-def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode: str = "arc") -> CornerResult:
+def fillet_path(
+    segments: Sequence[Segment], specs: dict[int, FilletSpec], mode: str = "arc", *, g2: bool = False
+) -> CornerResult:
     """``segments`` with a circular blend at every joint of ``specs`` that :func:`line_joints`
-    can round (other joints are kept and recorded with the reason).
+    can round (other joints are kept and recorded with the reason); with ``g2`` the corners between
+    two lines get the curvature-continuous B-spline transition of
+    :mod:`~trcopt.optimize.corners.bspline_corner` instead (what a jerk-limited feed needs).
 
     Returns the new path with one :class:`~trcopt.optimize.corners.records.CornerRecord` per joint
     of ``specs``; ``max_deviation_mm`` is the largest distance measured as each spec says.
@@ -207,7 +212,16 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
         share_a = 0.5 if (k - 1) in at else LINE_SHARE
         share_b = 0.5 if (k + 1) in at else LINE_SHARE
         t_len = min(a.length * share_a, b.length * share_b)
-        r = min(specs[k].bounded(a.length, b.length).radius(phi), t_len / tan_half)
+        spec = specs[k].bounded(a.length, b.length)
+        if g2:  # the B-spline takes 2d of each line
+            tol = spec.tolerance_mm
+            d = math.inf if tol is None else (
+                0.5 * tol if spec.kind is ToleranceKind.DISTANCE
+                else spacing_for(tol, phi, spec.kind is ToleranceKind.VERTEX)
+            )  # fmt: skip
+            sizes[k] = (phi, phi_signed, min(2.0 * d, t_len))
+            continue
+        r = min(spec.radius(phi), t_len / tan_half)
         sizes[k] = (phi, phi_signed, r * tan_half)
     _no_slivers(segs, sizes)
     for k in wanted:
@@ -224,6 +238,18 @@ def fillet_path(segments: Sequence[Segment], specs: dict[int, FilletSpec], mode:
         if not (T >= MIN_TANGENT_MM and math.isfinite(r)):
             records.append(CornerRecord(k, math.degrees(phi_signed), inside, False, spec.tolerance_mm or 0.0,
                                         reason="no room for a blend"))  # fmt: skip
+            continue
+        if g2:
+            d = 0.5 * T
+            vertex, contour = bspline_distances(d, phi)
+            cuts[k] = (T, T, bspline_corner(a, b, d), vertex, contour)
+            peak = 4.0 * math.sin(0.5 * phi) / (3.0 * d * math.cos(0.5 * phi) ** 2)
+            records.append(
+                CornerRecord(
+                    k, math.degrees(phi_signed), inside, True, spec.tolerance_mm or 0.0, max_curvature=peak,
+                    span_mm=2.0 * T, transition=TransitionKind.SPLINE, vertex_mm=vertex, contour_mm=contour,
+                )
+            )  # fmt: skip
             continue
         blend = _flat_arc(a, b, T, r, phi_signed) if _flat(a, b) else _space_arc(a, b, T, r, phi)
         vertex, contour = blend_distances(r, phi)

@@ -56,14 +56,17 @@ def optimal_transitions(job: CornerJob) -> CornerResult:
 
 
 def _free_blends(job: CornerJob) -> CornerResult:
-    """Circular blends at the corners of uncompensated feed lines (the path's own tolerance)."""
+    """Circular blends at the corners of uncompensated feed lines (the path's own tolerance);
+    curvature-continuous B-spline transitions between lines under the ``jerk`` objective."""
     segs = list(job.toolpath)
     specs = {
         k: FilletSpec((1.0 - TARGET_MARGIN) * job.tolerance_at(k), job.kind)
         for k in blend_joints(segs)
         if segs[k].radius == 0.0
     }
-    return fillet_path(segs, specs, job.strategy) if specs else job.unchanged()
+    # under jerk limits the corners between lines get curvature-continuous B-spline transitions
+    g2 = job.objective is CornerObjective.JERK
+    return fillet_path(segs, specs, job.strategy, g2=g2) if specs else job.unchanged()
 
 
 def _renumber(first: CornerResult, second: CornerResult) -> CornerResult:
