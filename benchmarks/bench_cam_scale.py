@@ -3,8 +3,9 @@ blends (``--corners arc`` and the program's blending modes) on CAM polylines of 
 
 Run:  python benchmarks/bench_cam_scale.py [--sizes 200,1000,10000,100000] [--timing-up-to 10000]
 
-Each row plans one generated closed freeform contour (r(t) = c·(30 + 5·sin 5t + 2·cos 11t) mm, N chords,
-c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm or longer, F6000) written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
+Each row plans one generated closed freeform contour (r(t) = c·(30 + 5·sin 5t + 2·cos 11t) mm, N
+chords, c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm or longer, F6000)
+written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
 the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
 stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, mode ``arc``, ε = 0.01 mm) gives
 the corners per second and its peak Python memory (tracemalloc); up to ``--timing-up-to`` chords

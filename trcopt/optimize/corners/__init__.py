@@ -1,7 +1,10 @@
 """Feed-optimised corner transitions within a contour tolerance.
 
-* :mod:`.strategies` — the registry of corner strategies (``exact``, ``arc``, ``optimal``), each a
-  module of its own (:mod:`.exact`, :mod:`.arc`, :mod:`.optimal`);
+* :mod:`.strategies` — the registry of corner strategies (``program``, ``exact``, ``arc``,
+  ``optimal``), each a module of its own (:mod:`.program`, :mod:`.exact`, :mod:`.arc`, :mod:`.optimal`);
+* :mod:`.apply` — the pipeline's corner stage: the program's path-control mode or a strategy;
+* :mod:`.fillet` (with :mod:`.fillet_spec`, :mod:`.fillet_elements`, :mod:`.tangent_circle`,
+  :mod:`.bspline_corner`) — circular and G2 B-spline blends in closed form, on every path;
 * :mod:`.blend` — :func:`blend_corners`, the entry point: runs a strategy by name;
 * :mod:`.records` — what a strategy returns (:class:`CornerResult`, :class:`CornerRecord`);
 * :mod:`.sites` — the corners of a tool path and what constrains them (:func:`find_corner_sites`);

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -36,8 +36,20 @@ from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import CHORD_TOL_MM
 from trcopt.modes import ToleranceKind, TransitionKind
 from trcopt.optimize.corners.bspline_corner import bspline_corner, bspline_distances, spacing_for
+from trcopt.optimize.corners.fillet_elements import element_blend, element_joint
+from trcopt.optimize.corners.fillet_spec import (
+    APPLICATE_TOL_MM,
+    LINE_SHARE,
+    MAX_TURN_RAD,
+    MIN_LINE_MM,
+    MIN_TANGENT_MM,
+    TANGENT_TOL_RAD,
+    Cut,
+    FilletSpec,
+    blend_distances,
+    inside_turn,
+)
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
-from trcopt.optimize.corners.tangent_circle import distance_back, foot, intersections, joint_turn, offset_locus
 from trcopt.path import Role, Segment
 
 __all__ = [
@@ -56,67 +68,6 @@ __all__ = [
     "turn_between",
 ]
 
-LINE_SHARE = 0.98  # the largest share of a line a blend may take when the line's other end is not blended
-MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
-TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
-MIN_TANGENT_MM = 1e-7  # a blend shorter than this on each line is no blend
-MIN_LINE_MM = 0.01  # the shortest piece of a line left between two blends (unless they meet exactly)
-_W_TOL = 1e-12  # a line lies in its plane when its applicate changes by less, mm
-
-
-@dataclass(frozen=True, slots=True)
-class FilletSpec:
-    """How large the blend at one joint may be.
-
-    Attributes
-    ----------
-    tolerance_mm:
-        Bound of the blend measured as ``kind`` says, mm; None for no bound (as large as the lines
-        allow).
-    kind:
-        How ``tolerance_mm`` is measured.
-    max_radius_mm:
-        Largest blend radius, mm (the tool radius at an outside corner of a compensated path).
-    length_share:
-        The tolerance is at most this share of the shorter of the two lines (LinuxCNC's quarter);
-        None for no such bound.
-    """
-
-    tolerance_mm: float | None
-    kind: ToleranceKind = ToleranceKind.CONTOUR
-    max_radius_mm: float = math.inf
-    length_share: float | None = None
-
-    def bounded(self, length_a: float, length_b: float) -> FilletSpec:
-        """This spec with its tolerance bounded by ``length_share`` of the shorter line, mm."""
-        if self.length_share is None:
-            return self
-        cap = self.length_share * min(length_a, length_b)
-        tol = cap if self.tolerance_mm is None else min(self.tolerance_mm, cap)
-        return FilletSpec(tol, self.kind, self.max_radius_mm)
-
-    def radius(self, phi: float) -> float:
-        """The largest radius within the tolerance at a turn of ``phi`` rad (before the line lengths)."""
-        r = self.max_radius_mm
-        tol = self.tolerance_mm
-        if tol is None:
-            return r
-        half = 0.5 * phi
-        one_minus_cos = 2.0 * math.sin(0.5 * half) ** 2  # 1 − cos(φ/2), without cancellation
-        if one_minus_cos <= 0.0:
-            return r
-        if self.kind is ToleranceKind.VERTEX:
-            return min(r, tol * math.cos(half) / one_minus_cos)
-        if self.kind is ToleranceKind.CONTOUR:
-            return min(r, tol / one_minus_cos)
-        return min(r, tol / math.tan(half))  # DISTANCE: the tangent length
-
-
-def blend_distances(radius: float, phi: float) -> tuple[float, float]:
-    """(vertex distance, contour distance) of a circular blend of ``radius`` at a turn of ``phi``, mm."""
-    c = math.cos(0.5 * phi)
-    return radius * (1.0 - c) / c, radius * (1.0 - c)
-
 
 def turn_between(a: Line, b: Line) -> float:
     """Signed turning angle from line ``a`` to line ``b``, rad (positive = left)."""
@@ -125,7 +76,7 @@ def turn_between(a: Line, b: Line) -> float:
 
 
 def _in_plane(g: Line) -> bool:
-    return abs(g.start[2] - g.end[2]) <= _W_TOL and g.plane_length > 1e-9
+    return abs(g.start[2] - g.end[2]) <= APPLICATE_TOL_MM and g.plane_length > 1e-9
 
 
 def _direction3(g: Line) -> tuple[float, float, float]:
@@ -234,7 +185,7 @@ def fillet_path(
         assert isinstance(a, Line) and isinstance(b, Line)
         phi, phi_signed, T = sizes[k]
         r = T / math.tan(0.5 * phi)
-        inside = s1.radius > 0.0 and _flat(a, b) and _inside(s1, phi_signed)
+        inside = s1.radius > 0.0 and _flat(a, b) and inside_turn(s1, phi_signed)
         if not (T >= MIN_TANGENT_MM and math.isfinite(r)):
             records.append(CornerRecord(k, math.degrees(phi_signed), inside, False, spec.tolerance_mm or 0.0,
                                         reason="no room for a blend"))  # fmt: skip
@@ -262,7 +213,7 @@ def fillet_path(
             )
         )  # fmt: skip
     for k in sorted(set(wanted) - set(blended)):
-        found = _element_blend(segs, k, specs[k], at)
+        found = element_blend(segs, k, specs[k], at)
         if found is None:
             continue
         cuts[k] = found[0]
@@ -281,7 +232,7 @@ def fillet_path(
 
 def _flat(a: Line, b: Line) -> bool:
     """Both lines in the working plane at one applicate (the blend is an Arc)."""
-    return _in_plane(a) and _in_plane(b) and abs(a.end[2] - b.start[2]) <= _W_TOL
+    return _in_plane(a) and _in_plane(b) and abs(a.end[2] - b.start[2]) <= APPLICATE_TOL_MM
 
 
 def _no_slivers(segs: Sequence[Segment], sizes: dict[int, tuple[float, float, float]]) -> None:
@@ -339,12 +290,6 @@ def _space_arc(a: Line, b: Line, T: float, r: float, phi: float) -> Poly:
     )
 
 
-def _inside(seg: Segment, turn: float) -> bool:
-    from trcopt.optimize.corners.boundary import material_sign
-
-    return turn * material_sign(seg) < 0
-
-
 def _why_not(segs: Sequence[Segment], k: int) -> str:
     if k + 1 >= len(segs):
         return "end of the path"
@@ -363,9 +308,6 @@ def _why_not(segs: Sequence[Segment], k: int) -> str:
     if turn <= TANGENT_TOL_RAD:
         return "tangent joint"
     return "not joined"
-
-
-Cut = tuple[float, float, "Arc | Poly", float, float]  # (cut from a's end, from b's start, blend, vertex, contour)
 
 
 def _rebuild(segs: list[Segment], cuts: dict[int, Cut]) -> list[Segment]:
@@ -413,107 +355,3 @@ def rebuild_with_origin(segs: list[Segment], cuts: dict[int, Cut]) -> tuple[list
 
 
 # ------------------------------------------------------------------------------ line–arc, arc–arc
-def element_joint(segs: Sequence[Segment], k: int) -> bool:
-    """A corner between a line and an arc or two arcs of one plane at one applicate (feeds, same
-    compensation), turning by more than :data:`TANGENT_TOL_RAD` and at most :data:`MAX_TURN_RAD`."""
-    s1, s2 = segs[k], segs[k + 1]
-    g1, g2 = s1.geometry, s2.geometry
-    if not (isinstance(g1, Line | Arc) and isinstance(g2, Line | Arc)):
-        return False
-    if isinstance(g1, Line) and isinstance(g2, Line):
-        return False
-    if s1.is_rapid or s2.is_rapid or s1.plane != s2.plane or s1.side != s2.side or s1.radius != s2.radius:
-        return False
-    flat = all(abs(g.start[2] - g.end[2]) <= _W_TOL and g.plane_length > 1e-9 for g in (g1, g2))
-    if not flat or abs(g1.end[2] - g2.start[2]) > _W_TOL or math.dist(g1.end, g2.start) > 1e-9:
-        return False
-    turn = abs(joint_turn(g1, g2))
-    return TANGENT_TOL_RAD < turn <= MAX_TURN_RAD
-
-
-def _contour_distance(arc: Arc, a: Line | Arc, b: Line | Arc, samples: int = 17) -> float:
-    """The largest distance of ``arc`` from the union of ``a`` and ``b``: the larger of the sampled
-    maximum and the points where the distances to ``a`` and to ``b`` are equal (the maximum of a
-    minimum of two distances lies there unless one of them peaks on its own), found by bisection."""
-    def gap(t: float) -> tuple[float, float]:
-        p = arc.point2(t)
-        return a.distance2(p), b.distance2(p)
-
-    ts = [i / (samples - 1) for i in range(samples)]
-    values = [gap(t) for t in ts]
-    best = max(min(da, db) for da, db in values)
-    pairs = list(zip(ts, values, strict=True))
-    for (t0, (a0, b0)), (t1, (a1, b1)) in zip(pairs, pairs[1:], strict=False):
-        if (a0 - b0) * (a1 - b1) > 0.0:
-            continue
-        lo, hi, sign = t0, t1, a0 - b0
-        for _ in range(50):
-            mid = 0.5 * (lo + hi)
-            da, db = gap(mid)
-            if (da - db) * sign > 0.0:
-                lo = mid
-            else:
-                hi = mid
-        da, db = gap(0.5 * (lo + hi))
-        best = max(best, min(da, db))
-    return best
-
-
-def _element_blend(
-    segs: Sequence[Segment], k: int, spec: FilletSpec, shared: set[int]
-) -> tuple[Cut, CornerRecord] | None:
-    """The largest circular blend within ``spec`` at a line–arc or arc–arc corner ``k``: the circle
-    tangent to both elements on the inside of the turn, its radius found by bisection (the
-    distances grow with it); None when the joint is not such a corner or no blend fits."""
-    if not element_joint(segs, k):
-        return None
-    a, b = segs[k].geometry, segs[k + 1].geometry
-    assert isinstance(a, Line | Arc) and isinstance(b, Line | Arc)
-    turn = joint_turn(a, b)
-    side = 1.0 if turn > 0 else -1.0
-    avail_a = a.plane_length * (0.5 if (k - 1) in shared else LINE_SHARE)
-    avail_b = b.plane_length * (0.5 if (k + 1) in shared else LINE_SHARE)
-    spec = spec.bounded(a.plane_length, b.plane_length)
-    J = (a.end[0], a.end[1])
-    w = a.end[2]
-
-    def build(r: float) -> tuple[float, float, Arc, float, float] | None:
-        found = intersections(offset_locus(a, side, r), offset_locus(b, side, r))
-        if not found:
-            return None
-        c = min(found, key=lambda p: math.dist(p, J))
-        pa, pb = foot(a, c), foot(b, c)
-        cut_a, cut_b = distance_back(a, pa, True), distance_back(b, pb, False)
-        if cut_a is None or cut_b is None or cut_a > avail_a or cut_b > avail_b:
-            return None
-        arc = Arc.from_points((pa[0], pa[1], w), (pb[0], pb[1], w), c, side > 0, False)
-        if abs(arc.sweep) > abs(turn) + 1e-6:
-            return None  # the circle on the wrong branch
-        vertex = math.dist(c, J) - r
-        return cut_a, cut_b, arc, vertex, _contour_distance(arc, a, b)
-
-    def fits(r: float) -> tuple[float, float, Arc, float, float] | None:
-        got = build(r)
-        if got is None or spec.tolerance_mm is None:
-            return got
-        measure = {ToleranceKind.VERTEX: got[3], ToleranceKind.CONTOUR: got[4]}.get(spec.kind, max(got[0], got[1]))
-        return got if measure <= spec.tolerance_mm else None
-
-    hi = min(spec.max_radius_mm, 4.0 * max(avail_a, avail_b) / max(math.tan(0.5 * abs(turn)), 1e-12))
-    lo, best = 0.0, None
-    for _ in range(48):
-        mid = 0.5 * (lo + hi)
-        got = fits(mid)
-        if got is not None:
-            lo, best = mid, (mid, got)
-        else:
-            hi = mid
-    if best is None or min(best[1][0], best[1][1]) < MIN_TANGENT_MM:
-        return None
-    r, (cut_a, cut_b, arc, vertex, contour) = best
-    inside = segs[k].radius > 0.0 and _inside(segs[k], turn)
-    record = CornerRecord(
-        k, math.degrees(turn), inside, True, spec.tolerance_mm or 0.0, max_curvature=1.0 / r,
-        span_mm=cut_a + cut_b, transition=TransitionKind.ARC, vertex_mm=vertex, contour_mm=contour, radius_mm=r,
-    )  # fmt: skip
-    return (cut_a, cut_b, arc, vertex, contour), record
