@@ -12,12 +12,12 @@ tolerance kind says.
 from __future__ import annotations
 
 from trcopt.optimize.corners.assemble import TARGET_MARGIN
+from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import (
     FilletSpec,
     cut_contour_spec,
     fillet_path,
     line_joints,
-    turn_between,
 )
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
@@ -39,7 +39,7 @@ def arc_transitions(job: CornerJob) -> CornerResult:
         if seg.radius > 0.0:
             if seg.role not in (Role.CONTOUR, Role.CORNER) or segs[k + 1].role not in (Role.CONTOUR, Role.CORNER):
                 continue  # approach and retraction corners of a compensated path stay exact
-            specs[k] = cut_contour_spec(seg, turn_between(seg.geometry, segs[k + 1].geometry), tol)  # type: ignore[arg-type]
+            specs[k] = cut_contour_spec(seg, joint_turn(seg.geometry, segs[k + 1].geometry), tol)  # type: ignore[arg-type]
         else:
             specs[k] = FilletSpec(tol, job.kind)
     return fillet_path(segs, specs, job.strategy)

@@ -36,6 +36,7 @@ from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import CHORD_TOL_MM
 from trcopt.modes import ToleranceKind, TransitionKind
 from trcopt.optimize.corners.bspline_corner import bspline_corner, bspline_distances, spacing_for
+from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet_elements import element_blend, element_joint
 from trcopt.optimize.corners.fillet_spec import (
     APPLICATE_TOL_MM,
@@ -65,14 +66,7 @@ __all__ = [
     "line_joints",
     "rebuild_with_origin",
     "turn_angle3",
-    "turn_between",
 ]
-
-
-def turn_between(a: Line, b: Line) -> float:
-    """Signed turning angle from line ``a`` to line ``b``, rad (positive = left)."""
-    ta, tb = a.direction2(), b.direction2()
-    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
 
 
 def _in_plane(g: Line) -> bool:
@@ -158,7 +152,7 @@ def fillet_path(
         a, b = segs[k].geometry, segs[k + 1].geometry
         assert isinstance(a, Line) and isinstance(b, Line)
         phi = turn_angle3(a, b)
-        phi_signed = turn_between(a, b) if _flat(a, b) else phi
+        phi_signed = joint_turn(a, b) if _flat(a, b) else phi
         tan_half = math.tan(0.5 * phi)
         share_a = 0.5 if (k - 1) in at else LINE_SHARE
         share_b = 0.5 if (k + 1) in at else LINE_SHARE

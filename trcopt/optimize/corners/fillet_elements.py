@@ -9,6 +9,7 @@ from collections.abc import Sequence
 
 from trcopt.geometry import Arc, Line
 from trcopt.modes import ToleranceKind, TransitionKind
+from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet_spec import (
     APPLICATE_TOL_MM,
     LINE_SHARE,
@@ -20,7 +21,7 @@ from trcopt.optimize.corners.fillet_spec import (
     inside_turn,
 )
 from trcopt.optimize.corners.records import CornerRecord
-from trcopt.optimize.corners.tangent_circle import distance_back, foot, intersections, joint_turn, offset_locus
+from trcopt.optimize.corners.tangent_circle import distance_back, foot, intersections, offset_locus
 from trcopt.path import Segment
 
 __all__ = ["element_blend", "element_joint"]

@@ -24,7 +24,7 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
-from trcopt.geometry import Line
+from trcopt.geometry import Arc, Line, Poly
 from trcopt.modes import PathMode, ToleranceKind
 from trcopt.nc.model import EXACT_PATH, Move, PathControl
 from trcopt.optimize.corners.fillet import FilletSpec, element_joint, fillet_path
@@ -130,8 +130,6 @@ def _rounded_as_smooth(a: Segment, b: Segment, spec: FilletSpec) -> bool:
 
 
 def _curvature(g: object) -> float:
-    from trcopt.geometry import Arc, Poly
-
     if isinstance(g, Arc):
         return 1.0 / g.radius if g.radius > 0 else math.inf
     if isinstance(g, Poly) and g.curvatures is not None:

@@ -13,14 +13,9 @@ import math
 
 from trcopt.geometry import Arc, Line
 
-__all__ = ["distance_back", "foot", "intersections", "joint_turn", "offset_locus"]
+__all__ = ["distance_back", "foot", "intersections", "offset_locus"]
 
 Locus = tuple[str, tuple[float, ...]]  # ("line", (x0, y0, dx, dy)) or ("circle", (cx, cy, radius))
-
-
-def joint_turn(a: Line | Arc, b: Line | Arc) -> float:
-    ta, tb = a.end_tangent(), b.start_tangent()
-    return math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
 
 
 def offset_locus(g: Line | Arc, side: float, r: float) -> Locus:
