@@ -136,8 +136,9 @@ def pass_coefficients(
 
 
 def solve_lockstep(
-    q: np.ndarray, wb: np.ndarray, zb: np.ndarray, wf: np.ndarray, zf: np.ndarray, xmax: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+    q: np.ndarray, wb: np.ndarray, zb: np.ndarray, wf: np.ndarray, zf: np.ndarray, xmax: np.ndarray,
+    *, backward: bool = False, start: np.ndarray | None = None,
+) -> tuple[np.ndarray, ...]:
     """Backward and forward passes for G sections padded to the same interval count N.
 
     Parameters
@@ -156,6 +157,9 @@ def solve_lockstep(
         (G, N+1) squared path speeds, mm²/s².
     bad:
         (G,) True where a forward step violates a lower row (the section then goes to toppra).
+        With ``backward`` the (G, N) flags per interval instead, and the backward pass (G, N+1)
+        as a third result. ``start`` (G,) replaces the forward pass's first value (a window
+        continuing a solved profile).
     """
     G, N = q.shape
     B = np.empty((G, N + 1))
@@ -166,7 +170,7 @@ def solve_lockstep(
         B[:, i] = np.minimum(cap[:, i], (K[:, None] * wb[:, i] + zb[:, i]).min(axis=1))
     np.maximum(B, 0.0, out=B)
     F = np.empty((G, N + 1))
-    F[:, 0] = B[:, 0]
+    F[:, 0] = B[:, 0] if start is None else start  # a given start: known to be reachable
     wu, zu = wf[0], zf[0]
     for i in range(N):
         y = (F[:, i, None] * wu[:, i] + zu[:, i]).min(axis=1)
@@ -175,7 +179,7 @@ def solve_lockstep(
     with np.errstate(invalid="ignore"):
         lb = (F[:, :-1, None] * wf[1] + zf[1]).max(axis=2)
     viol = lb - F[:, 1:] > 1e-9 * (1.0 + F[:, 1:])
-    return F, viol.any(axis=1)
+    return (F, viol, B) if backward else (F, viol.any(axis=1))
 
 
 # -- vector (path) acceleration limit ----------------------------------------------------------------
@@ -314,8 +318,8 @@ def forward_rows(
 
 def solve_lockstep_vector(
     alpha: np.ndarray, beta: np.ndarray, gamma: np.ndarray, cl: np.ndarray, cr: np.ndarray, D: np.ndarray,
-    curved: np.ndarray, xmax: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
+    curved: np.ndarray, xmax: np.ndarray, *, backward: bool = False, start: np.ndarray | None = None,
+) -> tuple[np.ndarray, ...]:
     """Backward and forward passes with the vector-acceleration rows, G sections in lock-step.
 
     Parameters
@@ -336,6 +340,9 @@ def solve_lockstep_vector(
         (G, N+1) squared path speeds, mm²/s².
     bad:
         (G,) True where a forward step violates a lower bound (the section then goes to toppra).
+        With ``backward`` the (G, N) flags per interval instead, and the backward pass (G, N+1)
+        as a third result. ``start`` (G,) replaces the forward pass's first value (a window
+        continuing a solved profile).
     """
     G, N = cl.shape
     bounds = x_bounds(alpha, beta, gamma)
@@ -363,7 +370,7 @@ def solve_lockstep_vector(
     qr = 1.0 + cr
     Dqr = D * qr
     F = np.empty((G, N + 1))
-    F[:, 0] = B[:, 0]
+    F[:, 0] = B[:, 0] if start is None else start  # a given start: known to be reachable
     for i in range(N):
         x = F[:, i]
         xx = x * x
@@ -383,4 +390,4 @@ def solve_lockstep_vector(
         lb = np.maximum(lb, x - np.sqrt(np.maximum(disc_l, 0.0)))
         lb = np.maximum(lb, (x - np.sqrt(np.maximum(disc_r, 0.0))) / qr)
     viol = (lb - y > 1e-9 * (1.0 + y)) | (disc_l < -1e-9 * D) | (disc_r < -1e-9 * Dqr)
-    return F, viol.any(axis=1)
+    return (F, viol, B) if backward else (F, viol.any(axis=1))
