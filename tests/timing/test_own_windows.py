@@ -95,3 +95,28 @@ def test_time_parameterize_uses_the_windows_and_keeps_the_limits():
     assert traj.duration > 0
     rep = traj.check_limits(dt=1e-3)
     assert rep.ok, str(rep)
+
+
+def test_every_interval_lies_on_its_own_segment_after_toppra():
+    """A section with a Poly (here a blend in space between a plunge and the contour) is timed by
+    toppra, whose grid points on the knots round to either side; every interval must still be
+    evaluated on the segment it lies on (an interval assigned to the curve before it evaluated
+    that curve far beyond its end: 37× the Z acceleration limit, wrong positions in the samples)."""
+    from trcopt.pipeline import PlanOptions, plan
+
+    lines = ["G21 G17 G90 G40 F6000", "G0 X50 Y0 Z1", "G1 Z0"]
+    for i in range(401):
+        t = 2 * math.pi * i / 400
+        r = 30 + 5 * math.sin(5 * t) + 2 * math.cos(11 * t)
+        lines.append(f"G1 X{r * math.cos(t):.5f} Y{r * math.sin(t):.5f}")
+    text = "\n".join([*lines, "G0 Z5", "M2"]) + "\n"
+    res = plan(text, file="cam.ngc", options=PlanOptions(corners="arc", tolerance_mm=0.01, verify=False))
+    traj = res.timing
+    assert "toppra" in traj.engines
+    start = traj.arrays.start
+    length = traj.arrays.length
+    mid = 0.5 * (traj.s[:-1] + traj.s[1:])
+    k = traj.iseg
+    assert np.all(mid >= start[k] - 1e-9) and np.all(mid <= start[k] + length[k] + 1e-9)
+    rep = traj.check_limits(dt=1e-3)
+    assert rep.ok, str(rep)

@@ -91,7 +91,9 @@ def time_parameterize(
     toppra_results = _solve_toppra_all(tsecs, segments, speed, vmax, amax, path_amax, workers)
     for sec, (grid, x) in zip(tsecs, toppra_results, strict=True):
         local_start = arrays.start[sec.first : sec.last + 1] - sec.s_start
-        iseg = sec.first + np.searchsorted(local_start, grid[:-1], side="right") - 1
+        # the segment of an interval by its midpoint: a grid point on a knot may round to either side
+        mid = 0.5 * (grid[:-1] + grid[1:])
+        iseg = sec.first + np.clip(np.searchsorted(local_start, mid, side="right") - 1, 0, sec.last - sec.first)
         results[sec.index] = (grid + sec.s_start, x, iseg)
     engines = ["toppra" if t else "own" for t in use_toppra]
     return TimedTrajectory.assemble(segments, machine, feeds, arrays, sections, engines, results)
