@@ -9,9 +9,10 @@ compensate, no timing):
   ``--corners arc`` — every joint tangent, so the whole path is one section of N segments;
 * ``N sections``: the same contour as exact G1 chords (G40): a stop at every vertex.
 
-Each path is timed twice in the same run: the **baseline** solves every section whole (the own
-solver's passes over the whole program's row data at once, ``window=None``), **trcopt** with the
-default windows (:mod:`trcopt.timing.own`). Peak memory is Python's (tracemalloc) over
+Each path is timed twice in the same run: the **baseline** solves every section whole and all
+short sections of similar length in one lock-step group (the own solver's passes over the whole
+program's row data at once, as before the windows), **trcopt** with the default windows and group
+budget (:mod:`trcopt.timing.own`). Peak memory is Python's (tracemalloc) over
 ``time_parameterize``; wall time is a separate run without tracing. The two cycle times must be
 identical.
 """
@@ -43,8 +44,10 @@ def tool_path(chords: int, one_section: bool) -> list:
 
 
 def measure(path: list, window: int | None) -> tuple[float, float, float]:
-    """(cycle time s, wall s, peak MiB) of time_parameterize with the given window."""
-    solve_module.solve_own = functools.partial(solve_own, window=window)
+    """(cycle time s, wall s, peak MiB) of time_parameterize with the given window; ``None``: the
+    baseline, every section whole and every group of short sections at once."""
+    budget = {} if window is not None else {"group_budget": 2**62}
+    solve_module.solve_own = functools.partial(solve_own, window=window, **budget)
     try:
         t0 = time.perf_counter()
         duration = solve_module.time_parameterize(path).duration

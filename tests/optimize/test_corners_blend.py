@@ -32,7 +32,8 @@ EPS = 0.1
 @pytest.fixture(scope="module")
 def corner():
     r = plan_file(ROOT / "problems" / "corners" / "corner_30deg.mpf", PlanOptions(timing=False))
-    opt = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal")
+    # select=False keeps the G2 quintic (with select, acceleration limits get the closed-form circle)
+    opt = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="optimal", select=False)
     arc = blend_corners(r.toolpath, r.programmed, tolerance_mm=EPS, mode="arc")
     return r, opt, arc
 

@@ -43,8 +43,11 @@ def inside():
     return r
 
 
-def test_never_slower_than_circular_blends_and_within_tolerance(inside):
-    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
+@pytest.mark.parametrize("objective", ["curvature", "jerk"])
+def test_never_slower_than_circular_blends_and_within_tolerance(inside, objective):
+    opt = blend_corners(
+        inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False, objective=objective
+    )
     arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
     t_opt = time_parameterize(opt.segments).duration
     t_arc = time_parameterize(arc.segments).duration
@@ -53,7 +56,11 @@ def test_never_slower_than_circular_blends_and_within_tolerance(inside):
     assert opt.blended == len(opt.corners) == 5
     assert opt.count(TransitionKind.QUINTIC) + opt.count(TransitionKind.ARC) == 5
     transitions = (TransitionKind.QUINTIC, TransitionKind.ARC)
-    assert all(c.transition in transitions and c.solution is not None for c in opt.corners)
+    if objective == "jerk":  # G2 quintics solved at every corner, then the choice by time
+        assert all(c.transition in transitions and c.solution is not None for c in opt.corners)
+    else:  # the closed-form circles, no quintic solved: the same path as the arc strategy
+        assert opt.count(TransitionKind.ARC) == 5 and all(c.solution is None for c in opt.corners)
+        assert [s.geometry for s in opt.segments] == [s.geometry for s in arc.segments]
     # every circular corner says why
     assert all(c.reason for c in opt.corners if c.transition is TransitionKind.ARC)
     assert opt.max_deviation_mm <= EPS and not gouges(inside.programmed, opt.segments)
@@ -90,7 +97,11 @@ def test_per_corner_mix_is_timed_and_kept_only_when_faster(inside, monkeypatch):
     # force a mix (odd corners G2, even circular) through the local estimate
     calls = iter(range(100))
     monkeypatch.setattr(selection_mod, "_local_time", lambda *a: -1.0 if next(calls) % 2 else 1.0)
-    opt = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False)
+    # the jerk objective solves a G2 quintic at every corner (the curvature objective takes circles)
+    opt = blend_corners(
+        inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="optimal", chains=False, objective="jerk"
+    )
+    assert next(calls) > 0  # the local estimate was asked
     arc = blend_corners(inside.toolpath, inside.programmed, tolerance_mm=EPS, mode="arc")
     assert time_parameterize(opt.segments).duration <= time_parameterize(arc.segments).duration * (1 + 1e-12)
     assert opt.max_deviation_mm <= EPS and isinstance(opt.max_deviation_mm, float)

@@ -93,13 +93,15 @@ def boundary_probes(
     step: float,
     near: np.ndarray | None = None,
     reach: float = math.inf,
+    others: Sequence[Line | Arc] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Points of the exact cut boundary (n×2, mm) and unit directions away from the material (n×2).
 
     Candidates: envelope points of the exact centre elements every ``step`` mm, disc fans at their
     joints, the programmed vertices with their normal fans; kept where they lie on the boundary of
-    the exact swept region (distance to the exact centre path = ``radius``) and, with ``near``,
-    within ``reach`` mm of it.
+    the exact swept region (distance to the exact centre path = ``radius``; the path is ``exact``
+    and ``others``, every element that comes within ``radius`` of the candidates) and, with
+    ``near``, within ``reach`` mm of it.
     """
     pts, dirs = [], []
     for el in exact:
@@ -125,7 +127,7 @@ def boundary_probes(
     if near is not None:
         keep = np.hypot(*(P - near[None, :]).T) <= reach
         P, D = P[keep], D[keep]
-    dmin = np.min([points_distance(el, P) for el in exact], axis=0)
+    dmin = np.min([points_distance(el, P) for el in [*exact, *(others or ())]], axis=0)
     keep = np.abs(dmin - radius) <= 1e-7 * max(radius, 1.0)
     return P[keep], D[keep]
 
@@ -157,9 +159,45 @@ def _path_samples(segments: Sequence[Segment], step: float) -> np.ndarray:
     pts = []
     for s in segments:
         g = s.geometry
+        if isinstance(g, Line | Arc) and g.plane_length > 0:
+            pts.append(element_samples(g, step)[0])
+            continue
         n = max(2, int(math.ceil(g.length / step)) + 1)
-        pts.append(np.array([g.point(x)[:2] for x in np.linspace(0.0, g.length, n)]))
+        pts.append(g.points_at(np.linspace(0.0, g.length, n))[:, :2])  # type: ignore[union-attr]
     return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def _boxes(geoms: Sequence[Line | Arc | object]) -> np.ndarray:
+    """Plane bounding boxes (n×4: xmin, ymin, xmax, ymax) of lines, arcs and curves, mm."""
+    out = np.empty((len(geoms), 4))
+    for i, g in enumerate(geoms):
+        if isinstance(g, Arc):
+            lo, hi = _arc_box(g)
+        elif isinstance(g, Line):
+            lo = (min(g.start[0], g.end[0]), min(g.start[1], g.end[1]))
+            hi = (max(g.start[0], g.end[0]), max(g.start[1], g.end[1]))
+        else:
+            pts = np.array([p[:2] for p in g.sample_points()])  # type: ignore[attr-defined]
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+        out[i] = (lo[0], lo[1], hi[0], hi[1])
+    return out
+
+
+def _arc_box(a: Arc) -> tuple[tuple[float, float], tuple[float, float]]:
+    # the circle's box: a superset of the arc's, enough for a proximity filter
+    cx, cy, r = a.center[0], a.center[1], a.radius
+    return (cx - r, cy - r), (cx + r, cy + r)
+
+
+def _meet(boxes: np.ndarray, box: np.ndarray, pad: float) -> np.ndarray:
+    """Indices of ``boxes`` that meet ``box`` grown by ``pad`` mm."""
+    return np.nonzero(
+        (boxes[:, 0] <= box[2] + pad) & (boxes[:, 2] >= box[0] - pad)
+        & (boxes[:, 1] <= box[3] + pad) & (boxes[:, 3] >= box[1] - pad)
+    )[0]
+
+
+CHUNK_ELEMENTS = 48  # exact elements measured together (bounds the probes and centres held at once)
 
 
 def cut_deviation(
@@ -176,13 +214,19 @@ def cut_deviation(
     boundary) is probed every ``step`` mm along its normals; for each probe the distance along
     the normal to the first disc of radius R swept by the new path (sampled every ``step`` mm)
     is the material left. Returns (max, location of the worst probe when ``locate``, else None).
-    """
-    from scipy.spatial import cKDTree
 
+    Only the boundary of the exact elements the new path does not keep whole can be left uncut
+    (a kept element sweeps its own envelope), so only those are probed, in chunks of
+    :data:`CHUNK_ELEMENTS` consecutive elements, each against the exact and new elements within
+    reach of it: the cost grows with the path's length, not with its square.
+    """
     comp = [s for s in exact if blendable(s)]
     if not comp:
         return 0.0, None
-    best, where = 0.0, None
+    kept = {id(s) for s in new}
+    touched = [i for i, s in enumerate(comp) if id(s) not in kept]
+    if not touched:
+        return 0.0, None
     # group by compensation radius/side (one group in practice)
     R, sign = comp[0].radius, material_sign(comp[0])
     contour = [
@@ -194,18 +238,55 @@ def cut_deviation(
         and not p.is_rapid
     ]
     # blendable() admits lines and arcs only: the filter drops nothing, it states the type
-    exact_elements = [s.geometry for s in comp if isinstance(s.geometry, Line | Arc)]
-    probes, dirs = boundary_probes(exact_elements, contour, R, sign, step)
-    centres = _path_samples([s for s in new if not s.is_rapid and s.radius > 0], step)
+    elements = [s.geometry for s in comp if isinstance(s.geometry, Line | Arc)]
+    centres_of = [s for s in new if not s.is_rapid and s.radius > 0]
+    ebox, cbox = _boxes(elements), _boxes(contour)
+    nbox = _boxes([s.geometry for s in centres_of])
+    best, where = 0.0, None
+    runs = np.split(np.array(touched), np.nonzero(np.diff(touched) > 1)[0] + 1)
+    for run in runs:
+        for lo in range(0, len(run), CHUNK_ELEMENTS):
+            part = run[lo : lo + CHUNK_ELEMENTS]
+            a, b = max(int(part[0]) - 1, 0), min(int(part[-1]) + 2, len(elements))  # with the joints
+            box = np.concatenate((ebox[a:b, :2].min(axis=0), ebox[a:b, 2:].max(axis=0)))
+            near = [i for i in _meet(ebox, box, 2.0 * R + 1e-6) if not a <= i < b]
+            probes, dirs = boundary_probes(
+                elements[a:b], [contour[i] for i in _meet(cbox, box, R + 1e-6)], R, sign, step,
+                others=[elements[i] for i in near],
+            )
+            if not len(probes):
+                continue
+            centres = _path_samples([centres_of[i] for i in _meet(nbox, box, 2.0 * R + 1.0 + step)], step)
+            val, at = _left_over(probes, dirs, centres, R, step, best)
+            if val > best:
+                best, where = val, at
+    return best, (where if locate else None)
+
+
+def _left_over(
+    probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, R: float, step: float, best: float
+) -> tuple[float, np.ndarray | None]:
+    """The largest material left at ``probes`` by discs around ``centres`` if it exceeds ``best``."""
+    from scipy.spatial import cKDTree
+
+    if not len(centres):
+        return 1.0, probes[0]
+    where = None
     tree = cKDTree(centres)
-    dmin, _ = tree.query(probes)
+    k0 = min(8, len(centres))
+    d0, i0 = tree.query(probes, k=k0)
+    d0, i0 = np.asarray(d0).reshape(len(probes), k0), np.asarray(i0).reshape(len(probes), k0)
     # a probe within R (+ half a sample spacing of chord sag) of a centre sample is swept
-    open_ = np.nonzero(dmin > R + step * step / (4.0 * R) + 1e-9)[0]
+    open_ = np.nonzero(d0[:, 0] > R + step * step / (4.0 * R) + 1e-9)[0]
     if not len(open_):
         return best, None
-    # an upper bound per probe from its nearest centres (fewer discs leave at least as much), then
-    # the exact value against every centre within R + 1 mm, in decreasing order of the bound, until
-    # no bound exceeds the largest exact value found
+    # bounds per open probe: at least its distance to the nearest centre less R (no disc is
+    # nearer), at most what its nearest 8, then NEAREST_CENTRES, discs leave (fewer discs leave at
+    # least as much); then the exact value against every centre within R + 1 mm, in decreasing
+    # order of the bound, until no bound exceeds the largest exact value found
+    floor = max(best, float((d0[open_, 0] - R).max()))
+    rough = material_left(probes[open_], dirs[open_], centres[i0[open_]], R)
+    open_ = open_[rough > floor]
     k = min(NEAREST_CENTRES, len(centres))
     bound = np.empty(len(open_))
     for lo in range(0, len(open_), 2048):
@@ -224,4 +305,4 @@ def cut_deviation(
             val = float(material_left(probes[i : i + 1], dirs[i : i + 1], centres[idx], R)[0])
         if val > best:
             best, where = val, probes[i]
-    return best, (where if locate else None)
+    return best, where

@@ -19,6 +19,7 @@ from dataclasses import replace
 
 from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
+from trcopt.optimize.corners.arc import arc_transitions
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
 from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
@@ -33,6 +34,7 @@ from trcopt.verify.contour import part_contour
 __all__ = ["PARALLEL_MIN_CORNERS", "optimal_transitions"]
 
 PARALLEL_MIN_CORNERS = 8  # fewer corner problems are solved in-process (a pool costs ~1 s to start)
+CIRCLE_REASON = "circular blend: no transition within ε has a larger smallest radius (G2 quintics not solved)"
 
 CornerTask = tuple[int, CornerSite, float, tuple[float, float] | None]  # joint, site, ε (mm), jerk limits
 
@@ -94,13 +96,27 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
         segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains
     )
 
+    # the largest circle within ε has the largest smallest radius of any transition between two
+    # lines within ε (a G2 quintic's curvature must also rise from zero): under acceleration limits
+    # a quintic gained at most 0.2 % of the cycle time on the corner problems, for 10–60 times the
+    # planning time, so with ``select`` no quintic is solved there (docs/continuous_path.md)
+    circles_win = job.select and job.objective is CornerObjective.CURVATURE
+    if circles_win and not plan.splines and all(_two_lines(site) for _, site in sites):
+        return _with_reason(arc_transitions(replace(job, strategy=job.strategy)))
+
     def solve_quintics(current: TransitionPlan) -> None:
         # the sites without a G2 quintic at their current tolerance: all at first, then the tightened
         eps = current.eps
-        tasks = [(k, site, eps[k], job.jerk_limits) for k, site in current.single if (k, eps[k]) not in current.solved]
+        tasks = [
+            (k, site, eps[k], job.jerk_limits)
+            for k, site in current.single
+            if (k, eps[k]) not in current.solved and not (circles_win and _two_lines(site))
+        ]
         _solve_sites(tasks, current.solved, job.workers)
 
     result = fit_tolerance(plan, job.programmed, job.tolerance_mm, job.strategy, solve_quintics)
+    if circles_win:
+        result = _with_reason(result)
     if job.select and (result.count(TransitionKind.QUINTIC) or result.count(TransitionKind.SPLINE)):
         result = fastest(job, plan, result)
     if plan.kept:
@@ -144,6 +160,21 @@ def _solve_chains(
         elif chain.max_turn <= TANGENT_TOL_RAD and len(chain.joints) == 1:  # (a circle keeps its site)
             kept.append(kept_jump(segs, chain, f"spline infeasible ({sol.message})"))
     return out, kept
+
+
+def _with_reason(result: CornerResult) -> CornerResult:
+    """The circular blends without a G2 solution say why they are circular."""
+    result.corners = [
+        replace(c, reason=CIRCLE_REASON) if c.transition is TransitionKind.ARC and c.solution is None and not c.reason
+        else c
+        for c in result.corners
+    ]
+    return result
+
+
+def _two_lines(site: CornerSite) -> bool:
+    """A corner between two lines (not a G450 transition circle): its circular blend is closed form."""
+    return site.min_cut == 0.0 and isinstance(site.a, Line) and isinstance(site.b, Line)
 
 
 def _solve_one(task: CornerTask) -> tuple[tuple[int, float], CornerSolution]:
