@@ -49,7 +49,12 @@ def circular_blend(site: CornerSite, eps: float) -> tuple[Arc, float, float] | N
         return float(dev.max(initial=0.0)) <= eps and clear >= site.radius - 1e-9
 
     lo, hi = 0.0, tmax
-    if ok(hi):
+    closed = _closed_form_tangent(site, eps, phi, tmax)
+    if closed is not None and ok(closed):
+        # the closed form (vertex distance at an inside corner, the tool radius at an outside one),
+        # confirmed by the sampled check; the bisection below is the fallback
+        lo = hi = closed
+    elif ok(hi):
         lo = hi
     else:
         # the feasible tangent lengths are an interval [0, T*]: bisect T* to ARC_BLEND_TOL_MM
@@ -62,3 +67,23 @@ def circular_blend(site: CornerSite, eps: float) -> tuple[Arc, float, float] | N
     if lo <= 1e-9:
         return None
     return build(lo)[0], lo, lo
+
+
+def _closed_form_tangent(site: CornerSite, eps: float, phi: float, tmax: float) -> float | None:
+    """Tangent length of the largest blend within ``eps`` by the closed form of
+    :func:`~trcopt.optimize.corners.fillet.cut_contour_spec`, or None when it is not the largest
+    (limited by the lines: then the bisection finds it)."""
+    if phi <= 0.0 or phi >= math.pi:
+        return None
+    inside = site.turn * site.material_sign < 0
+    half = 0.5 * phi
+    one_minus_cos = 2.0 * math.sin(0.5 * half) ** 2
+    if inside:
+        r = eps * math.cos(half) / one_minus_cos if one_minus_cos > 0 else math.inf
+    else:
+        r = site.radius
+    T = r * math.tan(half)
+    if not math.isfinite(T) or T >= tmax:
+        return None
+    # just inside the bound, so that the sampled check (a bound from above) accepts it
+    return T * (1.0 - 1e-9)
