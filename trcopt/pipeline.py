@@ -259,7 +259,9 @@ def plan(
     if opts.verify:
         from trcopt.verify.plan import verify_plan
 
-        result.verification = verify_plan(programmed, toolpath, moves, settings)
+        result.verification = verify_plan(
+            programmed, toolpath, moves, settings, near_tangent_rad=profile.near_tangent_rad
+        )
         result.extra["verification"] = result.verification.to_json()
         # a failed family is a warning (an error under strict) at its worst block
         result.diagnostics.extend(result.verification.diagnostics(strict=opts.strict))

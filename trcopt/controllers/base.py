@@ -56,6 +56,10 @@ class Controller:
     recognise:
         Recognises its programs by their text when the file suffix says nothing (``None``: never
         claims a program by its text).
+    near_tangent_rad:
+        Its compensation leaves joints whose programmed turn is at most this (rad) as they are: the
+        next line starts where the tool is (LinuxCNC 0.05; 0: every joint is compensated). The
+        verification measures those lines against that construction.
     """
 
     name: str
@@ -67,6 +71,7 @@ class Controller:
     gcode: GcodeFlavor
     leads: LeadPassFn | None = None
     recognise: Callable[[str], bool] | None = None
+    near_tangent_rad: float = 0.0
 
     def claims(self, text: str) -> bool:
         """True if ``text`` looks like a program of this controller."""

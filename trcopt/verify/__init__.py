@@ -5,6 +5,8 @@
   problems of :mod:`trcopt.optimize` use the same functions as constraints;
 * :mod:`.plan` — :func:`verify_plan`: the largest residual of each family over a planned path;
 * :mod:`.contour` — the part contour, without approach/retraction and CAM lead blocks;
+* :mod:`.joints` — where the controller's own rules bring the tool nearer than R (near-tangent
+  joints left as they are, the transitions at the contour's start and end, its closing joint);
 * :mod:`.index` — the uniform grid that keeps the clearance check linear in the plan's length.
 """
 

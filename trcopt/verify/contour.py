@@ -19,6 +19,12 @@ the **part** is the longest closed loop that starts within the first ``MAX_LEAD_
 and ends within the last ``MAX_LEAD_BLOCKS + 1`` (the start point of its first block is the end
 point of its last, within :data:`CLOSED_MM`); the blocks before and after it are **leads**. A run
 that does not close this way (an open profile) is part contour throughout, as before.
+
+Where such a loop closes (the start point of its first block, the end point of its last) the
+controller compensates no corner: the tool enters the loop there at the end of the approach (or
+lead-in) and leaves it at the start of the retraction. :attr:`ContourBlocks.closings` names the two
+blocks of each closing joint; the verification measures the overlap of their tool paths across it
+against the entry and exit points (:mod:`trcopt.verify.joints`).
 """
 
 from __future__ import annotations
@@ -29,10 +35,24 @@ from dataclasses import dataclass
 
 from trcopt.path import Role, Segment
 
-__all__ = ["CLOSED_MM", "MAX_LEAD_BLOCKS", "ContourBlocks", "contour_blocks", "part_contour"]
+__all__ = ["CLOSED_MM", "MAX_LEAD_BLOCKS", "Closing", "ContourBlocks", "contour_blocks", "part_contour"]
 
 MAX_LEAD_BLOCKS = 3  # lead-in (lead-out) blocks at most: a line, an arc, and one more
 CLOSED_MM = 1e-5  # a contour closes when its end point is within this of its start point, mm
+
+
+@dataclass(frozen=True, slots=True)
+class Closing:
+    """The joint where a closed part contour closes: its last block ends where its first starts.
+
+    Attributes
+    ----------
+    first_line, last_line:
+        Source lines of the loop's first and last block.
+    """
+
+    first_line: int
+    last_line: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,11 +68,14 @@ class ContourBlocks:
         ``compensated`` without the lead blocks.
     lead_lines:
         Source lines of the lead-in and lead-out blocks.
+    closings:
+        The closing joint of every closed loop of two or more blocks.
     """
 
     compensated: list[Segment]
     part: list[Segment]
     lead_lines: frozenset[int]
+    closings: tuple[Closing, ...] = ()
 
 
 def _runs(toolpath: Sequence[Segment], tool_lines: set[int], by_line: dict[int, list[Segment]]) -> list[list[int]]:
@@ -80,16 +103,16 @@ def _runs(toolpath: Sequence[Segment], tool_lines: set[int], by_line: dict[int, 
     return runs
 
 
-def _leads(blocks: list[int], by_line: dict[int, list[Segment]]) -> list[int]:
-    """The lead blocks of one run (empty when the run is not a closed loop with leads)."""
+def _loop(blocks: list[int], by_line: dict[int, list[Segment]]) -> tuple[int, int] | None:
+    """Indices (first, last) into ``blocks`` of the closed loop of one run, None for an open run."""
     m = len(blocks)
     starts = [by_line[b][0].geometry.start for b in blocks]
     ends = [by_line[b][-1].geometry.end for b in blocks]
     for i in range(min(MAX_LEAD_BLOCKS + 1, m)):
         for j in range(m - 1, max(i, m - 1 - MAX_LEAD_BLOCKS) - 1, -1):
             if math.hypot(starts[i][0] - ends[j][0], starts[i][1] - ends[j][1]) <= CLOSED_MM:
-                return blocks[:i] + blocks[j + 1 :]
-    return []
+                return i, j
+    return None
 
 
 def contour_blocks(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> ContourBlocks:
@@ -119,9 +142,19 @@ def contour_blocks(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -
     by_line: dict[int, list[Segment]] = {}
     for p in compensated:
         by_line.setdefault(p.span.line, []).append(p)
-    leads = frozenset(ln for run in _runs(toolpath, tool_lines, by_line) for ln in _leads(run, by_line))
+    lead_list: list[int] = []
+    closings: list[Closing] = []
+    for run in _runs(toolpath, tool_lines, by_line):
+        loop = _loop(run, by_line)
+        if loop is None:
+            continue
+        i, j = loop
+        lead_list += run[:i] + run[j + 1 :]
+        if j > i:
+            closings.append(Closing(run[i], run[j]))
+    leads = frozenset(lead_list)
     part = [p for p in compensated if p.span.line not in leads] if leads else compensated
-    return ContourBlocks(compensated, part, leads)
+    return ContourBlocks(compensated, part, leads, tuple(closings))
 
 
 def part_contour(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> list[Segment]:

@@ -20,11 +20,18 @@ it occurs:
 ``clearance``
     every compensated tool-centre contour, corner and SAR lead element keeps at least R from the
     whole part contour (:func:`trcopt.verify.contour.part_contour`): ``max(0, R − distance)`` (mm;
-    a positive value is a gouge).
+    a positive value is a gouge) — less than R only where the controller's own rule puts it
+    (:mod:`trcopt.verify.joints`: a near-tangent joint left as it is, the closing joint of a closed
+    contour), noted in ``notes``.
 ``lead_clearance`` (informational, not part of ``ok``)
     the same for NORM/KONT activation and deselection moves, which the controller builds towards
     the programmed start/end point and which overlap the contour when that point is close to it,
-    and for the lead-in and lead-out blocks CAM posts write around a closed contour.
+    the transitions around the contour's start (end) point between them and the contour (LinuxCNC's
+    entry arc), and for the lead-in and lead-out blocks CAM posts write around a closed contour.
+
+A line that starts where the tool is at a near-tangent joint (``near_tangent_rad``, the profile's
+limit) is measured against that construction in ``radius`` and ``tangency``
+(:func:`trcopt.verify.joints.continuation_residuals`).
 
 A family over tolerance is a diagnostic (:meth:`VerificationReport.diagnostics`: ``VERIFY-…``, a
 warning, an error under ``--strict``) at the block of its worst segment.
@@ -49,6 +56,13 @@ from trcopt.geometry import Arc, Line
 from trcopt.path import Role, Segment
 from trcopt.verify.contour import contour_blocks
 from trcopt.verify.index import BoxGrid
+from trcopt.verify.joints import (
+    NEAR_TANGENT,
+    activation_corners,
+    clearance_limits,
+    continuation_residuals,
+    continuations,
+)
 from trcopt.verify.model import bbox, carrier_residual, element_distance, reversal_residual, tangency_residual
 
 __all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "FAMILIES", "FAMILY_CODES"]
@@ -245,6 +259,21 @@ def _programmed_tangent_at(prog: Line | Arc, p: tuple[float, float]) -> tuple[fl
     return (-rv / n * prog.sense, ru / n * prog.sense)
 
 
+def _allowed_note(kind: str, amount: float, seg: Segment, near_tangent_rad: float) -> str:
+    where = seg.span.block or f"line {seg.span.line}"
+    if kind == NEAR_TANGENT:
+        return (
+            f"near-tangent joints (turn ≤ {near_tangent_rad:g} rad) are left as they are by the compensation: "
+            f"the tool comes up to {amount:.6g} mm closer than R to the contour there (largest at {where}), "
+            "R·(1 − cos turn) at most — not counted as a gouge"
+        )
+    return (
+        f"the closed contour is entered and left at its closing point: the first and last block's tool "
+        f"paths come up to {amount:.6g} mm closer than R to the block across it (at {where}), as close as "
+        "the entry or exit point itself (lead clearance) — not counted as a gouge"
+    )
+
+
 def verify_plan(
     programmed: Sequence[Segment],
     toolpath: Sequence[Segment],
@@ -252,6 +281,7 @@ def verify_plan(
     settings: Any = None,
     *,
     tolerance: float = 1e-6,
+    near_tangent_rad: float = 0.0,
 ) -> VerificationReport:
     """Evaluate the constraint model on a planned path.
 
@@ -266,6 +296,10 @@ def verify_plan(
         :class:`~trcopt.config.TrcSettings` (optional): ``wab_clearance_tolerance_mm`` is noted.
     tolerance:
         Largest residual still reported as ok (mm, and dimensionless for tangency).
+    near_tangent_rad:
+        The compensation's near-tangent limit, rad: joints whose programmed turn is at most this
+        are left as they are, the next line starting where the tool is (LinuxCNC 0.05; 0: none;
+        :mod:`trcopt.verify.joints`).
     """
     import time
 
@@ -282,6 +316,7 @@ def verify_plan(
     # programmed vertices (the centres of transition circles) and the part's boxes, indexed
     vertices = BoxGrid(np.array([[*p.geometry.start[:2], *p.geometry.start[:2]] for p in blocks.compensated]))
     grid = BoxGrid(np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4)))
+    conts = continuations(toolpath, programmed, near_tangent_rad, blocks.closings)
 
     # ---- radius (contact) and element direction -------------------------------------------
     for k, seg in enumerate(toolpath):
@@ -289,16 +324,22 @@ def verify_plan(
         if seg.radius <= 0.0 or g.plane_length <= 0.0 or seg.role not in _COMPENSATED_ROLES:
             continue
         R = seg.radius
-        if seg.role is Role.CONTOUR and isinstance(g, (Line, Arc)):
+        if k in conts:  # a near-tangent joint left as it is: the line starts where the tool is
+            radius, tangency = continuation_residuals(seg, conts[k])
+            fam["radius"].add(radius, k, seg)
+            fam["tangency"].add(tangency, k, seg)
+        elif seg.role is Role.CONTOUR and isinstance(g, (Line, Arc)):
             cands = [p.geometry for p in prog_by_line.get(seg.span.line, []) if isinstance(p.geometry, (Line, Arc))]
             if not cands:
                 continue
             side = seg.side.sign
+            # the distance error along the element and the side at its start: the larger of the
+            # two (at the start they measure the same error; a sum would count it twice)
             best = min(
                 cands,
-                key=lambda pg: carrier_residual(g, pg, R) + abs(_signed_offset(seg, pg) - side * R),
+                key=lambda pg: max(carrier_residual(g, pg, R), abs(_signed_offset(seg, pg) - side * R)),
             )
-            fam["radius"].add(carrier_residual(g, best, R) + abs(_signed_offset(seg, best) - side * R), k, seg)
+            fam["radius"].add(max(carrier_residual(g, best, R), abs(_signed_offset(seg, best) - side * R)), k, seg)
             p0 = g.point2(0.0)
             fam["tangency"].add(tangency_residual(g.start_tangent(), _programmed_tangent_at(best, p0)), k, seg)
         elif isinstance(g, Line) and seg.role in (Role.APPROACH, Role.RETRACT):
@@ -359,7 +400,10 @@ def verify_plan(
                     _TANGENT_PROGRAMMED_RAD
                 )
         if required:
-            fam["tangency"].add(tangency_residual(ga.end_tangent(), gb.start_tangent()), k + 1, b)
+            # a near-tangent line left as it is ends on its offset carrier, not parallel to it:
+            # the transition circle after it is tangent to the carrier
+            end_tangent = conts[k].programmed.geometry.end_tangent() if k in conts else ga.end_tangent()
+            fam["tangency"].add(tangency_residual(end_tangent, gb.start_tangent()), k + 1, b)
 
     # ---- no reversal of the infeed axis -----------------------------------------------------
     # SAR blocks: w1 → w2 → w3 → w4 over the block's sub-movements (and, on approach, the lead
@@ -394,16 +438,40 @@ def verify_plan(
         k = j + 1
 
     # ---- clearance from the whole programmed contour (no gouge) ---------------------------
+    # lead moves: approach and retraction (not SAR), the transitions around the contour's start
+    # and end point, lead blocks; each part element is measured against R, or against the
+    # limit of a near-tangent joint or of the closing joint (verify.joints)
+    activation = activation_corners(toolpath)
+    leads = {
+        k
+        for k, seg in enumerate(toolpath)
+        if seg.span.line in lead_lines
+        or k in activation
+        or (seg.role in (Role.APPROACH, Role.RETRACT) and _sar_for(seg.span.line, specs, seg.role) is None)
+    }
+    limits = clearance_limits(toolpath, blocks, conts, leads)
+    allowed: dict[str, tuple[float, int]] = {}  # kind → (largest R − distance within its limit, segment)
     for k, seg in enumerate(toolpath):
         g = seg.geometry
         if seg.radius <= 0.0 or g.plane_length <= 0.0 or seg.role not in _COMPENSATED_ROLES or not part:
             continue
         R = seg.radius
-        d = min((element_distance(g, part[i].geometry)[0] for i in grid.near(bbox(g), R)), default=math.inf)
-        lead = seg.span.line in lead_lines or (
-            seg.role in (Role.APPROACH, Role.RETRACT) and _sar_for(seg.span.line, specs, seg.role) is None
-        )
-        fam["lead_clearance" if lead else "clearance"].add(max(0.0, R - d), k, seg)
+        own = limits.get(k, {})
+        worst = 0.0
+        for i in grid.near(bbox(g), R):
+            d = element_distance(g, part[i].geometry)[0]
+            lim = own.get(i)
+            if lim is None:
+                worst = max(worst, R - d)
+                continue
+            worst = max(worst, lim.distance - d)
+            excused = R - max(d, lim.distance)
+            if excused > allowed.get(lim.kind, (0.0, -1))[0]:
+                allowed[lim.kind] = (excused, k)
+        fam["lead_clearance" if k in leads else "clearance"].add(max(0.0, worst), k, seg)
+    for kind, (amount, k) in allowed.items():
+        if amount > tolerance:
+            notes.append(_allowed_note(kind, amount, toolpath[k], near_tangent_rad))
 
     if settings is not None and getattr(settings, "wab_clearance_tolerance_mm", None) is not None:
         if fam["no_reversal"].max_residual > 0.0:

@@ -7,6 +7,7 @@ import re
 
 from trcopt.controllers.base import Controller
 from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
+from trcopt.controllers.linuxcnc.corners import TOLERANCE_CONCAVE_CORNER
 from trcopt.controllers.linuxcnc.reader import read_ngc
 from trcopt.io.gcode import GcodeFlavor
 
@@ -45,4 +46,5 @@ CONTROLLER = Controller(
     compensate=compensate_linuxcnc,
     gcode=GCODE,
     recognise=_recognise,
+    near_tangent_rad=TOLERANCE_CONCAVE_CORNER,
 )

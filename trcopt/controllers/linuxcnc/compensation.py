@@ -19,7 +19,11 @@ here (LinuxCNC user manual "Cutter Compensation", and its regression suite in
   - a 180° reversal is an outside corner;
   - ``beta < -0.05 rad`` (inside corner): the previous element is trimmed to the intersection
     with the next offset element; if that makes a line run against its programmed direction, or
-    an arc sweep further than programmed, the corner gouges — an error;
+    an arc sweep further than programmed, the corner gouges — an error. The same check runs on
+    the moves still queued when the tool leaves them where they are at an outside corner of a
+    straight block, at G40 and at the program end (LinuxCNC's ``move_endpoint_and_flush`` to the
+    current point): a line whose start an earlier inside corner moved past its end is that error
+    too; the near-tangent case and arc blocks flush without it, as LinuxCNC does;
 * an inside arc whose radius is not larger than r is an error;
 * **exit** (first move after G40): a straight line from the last tool position to the programmed
   end point; an arc there is an error.
@@ -158,14 +162,28 @@ class _LinuxCncCompensator:
         yield from self._flush()
         self.endpoint = p
 
+    def _flush_where_the_tool_is(self, span: SourceSpan) -> Iterator[Segment]:
+        """LinuxCNC's ``move_endpoint_and_flush`` to the current tool position (outside corner
+        of a straight block, G40, program end): the queued moves keep their ends, but a line that
+        now runs against its programmed direction (its start was moved past its end by an inside
+        corner) is the gouge error."""
+        if not self.queue or self.cur is None or self.r <= 0.0:
+            yield from self._flush()
+            return
+        yield from self._move_endpoint_and_flush(self.cur[:2], span)
+
     def _front(self) -> _Queued | None:
         return self.queue[0] if self.queue else None
 
     # -- driver -----------------------------------------------------------------------------
     def run(self, moves: Iterable[Move]) -> Iterator[Segment]:
         try:
+            span = None
             for m in moves:
+                span = m.span
                 yield from self._block(m)
+            if self.on and span is not None:  # program end (M2/M30): LinuxCNC's convert_stop
+                yield from self._flush_where_the_tool_is(span)
             yield from self._flush()
         except CompensationStop as stop:
             self.queue.clear()
@@ -185,7 +203,7 @@ class _LinuxCncCompensator:
             self.plane = m.plane
             self.exit_pending = False
         elif want is Side.OFF and self.on:
-            yield from self._flush()
+            yield from self._flush_where_the_tool_is(m.span)
             self.on = False
             self.exit_pending = not self.first
             self.first = False
@@ -312,7 +330,7 @@ class _LinuxCncCompensator:
             # "h" shape: over a round top into a line on the side the tool is on
             concave = (side < 0 and front.turn > 0) or (side > 0 and front.turn < 0)
         if not concave and beta > small:  # outside corner
-            yield from self._flush()
+            yield from self._flush_where_the_tool_is(m.span)
             if rapid:
                 corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER)
             else:
