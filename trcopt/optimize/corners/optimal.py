@@ -14,14 +14,15 @@ With ``select`` the plan is timed against the same-ε circular blends and a per-
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
-from trcopt.optimize.corners.chain import find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.chain import ChainSite, find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
@@ -92,17 +93,21 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
     plan = TransitionPlan(segs, sites, {k: (1.0 - TARGET_MARGIN) * job.tolerance_mm for k, _ in sites})
     # runs of small-deflection corners (CAM polylines): one G2 spline across each run; curvature
     # jumps: one G2 spline across each jump
-    plan.splines, plan.kept = _solve_chains(
-        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains
-    )
-
     # the largest circle within ε has the largest smallest radius of any transition between two
     # lines within ε (a G2 quintic's curvature must also rise from zero): under acceleration limits
     # a quintic gained at most 0.2 % of the cycle time on the corner problems, for 10–60 times the
     # planning time, so with ``select`` no quintic is solved there (docs/continuous_path.md)
     circles_win = job.select and job.objective is CornerObjective.CURVATURE
-    if circles_win and not plan.splines and all(_two_lines(site) for _, site in sites):
-        return _with_reason(arc_transitions(replace(job, strategy=job.strategy)))
+    circles = arc_transitions(job) if circles_win else None
+    flatter = None
+    if circles is not None:
+        peak = {c.index: c.max_curvature for c in circles.corners if c.blended}
+        flatter = lambda chain: _spline_may_be_flatter(segs, chain, peak)  # noqa: E731
+    plan.splines, plan.kept = _solve_chains(
+        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains, keep=flatter
+    )
+    if circles is not None and not plan.splines and all(_two_lines(site) for _, site in sites):
+        return _with_reason(circles)
 
     def solve_quintics(current: TransitionPlan) -> None:
         # the sites without a G2 quintic at their current tolerance: all at first, then the tightened
@@ -132,6 +137,7 @@ def _solve_chains(
     *,
     runs: bool = True,
     knots: bool = False,
+    keep: Callable[[ChainSite], bool] | None = None,
 ) -> tuple[list[Spline], list[CornerRecord]]:
     """G2 splines across the runs of small-deflection corners (``runs``) and across the curvature
     jumps (``knots``): the feasible ones, and records of the curvature jumps that keep the exact
@@ -148,6 +154,8 @@ def _solve_chains(
     eps = (1.0 - TARGET_MARGIN) * tolerance_mm
     out, kept = [], []
     found = find_chains(segs, plain, owned, contour) if runs else []
+    if keep is not None:
+        found = [chain for chain in found if keep(chain)]
     if knots:
         # curvature jumps: each line↔arc joint, and each G450 transition circle between two lines
         # as a whole (its two joints); a feasible spline takes the place of the circle's site
@@ -170,6 +178,19 @@ def _with_reason(result: CornerResult) -> CornerResult:
         for c in result.corners
     ]
     return result
+
+
+def _spline_may_be_flatter(segs: list[Segment], chain: ChainSite, peak: dict[int, float | None]) -> bool:
+    """Whether a spline across ``chain`` could have a smaller peak curvature than the circular
+    blends at its joints (``peak``, 1/mm, by joint): the spline turns by the run's net turn Θ over
+    about the run's length S, so its peak curvature is at least Θ/S; where the circles are already
+    flatter than that, the spline cannot carry more speed and is not solved."""
+    kappa = [peak.get(k) for k in chain.joints]
+    if any(x is None for x in kappa):
+        return True
+    theta = abs(sum(joint_turn(segs[k].geometry, segs[k + 1].geometry) for k in chain.joints))  # type: ignore[arg-type]
+    length = sum(e.plane_length for e in chain.full)
+    return length <= 0.0 or max(kappa) > theta / length  # type: ignore[type-var]
 
 
 def _two_lines(site: CornerSite) -> bool:
