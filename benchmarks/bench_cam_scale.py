@@ -1,15 +1,18 @@
-"""Corner transitions at CAM scale: corners per second and peak memory of the closed-form circular
-blends (``--corners arc`` and the program's blending modes) on CAM polylines of 200 to 100 000 chords.
+"""Corner transitions at CAM scale: corners per second and peak memory of ``--corners arc`` (the
+closed-form circular blends, as the program's blending modes) and ``--corners optimal`` on CAM
+polylines of 200 to 100 000 chords.
 
 Run:  python benchmarks/bench_cam_scale.py [--sizes 200,1000,10000,100000] [--timing-up-to 10000]
+      [--optimal-up-to 10000] [--optimal-compensated-up-to 1000]
 
 Each row plans one generated closed freeform contour (r(t) = c·(30 + 5·sin 5t + 2·cos 11t) mm, N
 chords, c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm or longer, F6000)
 written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
 the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
-stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, mode ``arc``, ε = 0.01 mm) gives
-the corners per second and its peak Python memory (tracemalloc); up to ``--timing-up-to`` chords
-the acceleration-limited cycle times of both paths are added.
+stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, modes ``arc`` and ``optimal``,
+ε = 0.01 mm) gives the corners per second and its peak Python memory (tracemalloc); up to
+``--timing-up-to`` chords the acceleration-limited cycle times of both paths are added. The tool
+enters and leaves from outside the contour (X = 50·c).
 """
 
 from __future__ import annotations
@@ -31,9 +34,9 @@ from trcopt.timing import time_parameterize  # noqa: E402
 
 def contour(chords: int, compensated: bool) -> str:
     """The closed freeform contour as ``chords`` G1 moves (LinuxCNC)."""
-    out = ["G21 G17 G90 G40 F6000", "G0 X50 Y0 Z1", "G1 Z0"]
-    pts = []
     scale = max(1.0, chords * 0.25 / (2 * math.pi * 30))  # chords of about 0.25 mm and more
+    out = ["G21 G17 G90 G40 F6000", f"G0 X{50 * scale:.3f} Y0 Z1", "G1 Z0"]  # outside the contour
+    pts = []
     for i in range(chords + 1):
         t = 2 * math.pi * i / chords
         r = scale * (30 + 5 * math.sin(5 * t) + 2 * math.cos(11 * t))
@@ -44,18 +47,18 @@ def contour(chords: int, compensated: bool) -> str:
         out.append(f"G1 X{pts[0][0]:.5f} Y{pts[0][1]:.5f}")
     out += [f"G1 X{x:.5f} Y{y:.5f}" for x, y in pts[1:]]
     if compensated:
-        out.append("G40 G1 X50 Y0")
+        out.append(f"G40 G1 X{50 * scale:.3f} Y0")
     return "\n".join([*out, "G0 Z5", "M2"]) + "\n"
 
 
-def row(chords: int, compensated: bool, with_timing: bool) -> str:
+def row(chords: int, compensated: bool, with_timing: bool, mode: str = "arc") -> str:
     text = contour(chords, compensated)
     t0 = time.perf_counter()
     exact = plan(text, file="cam.ngc", options=PlanOptions(corners="exact", timing=False, verify=True))
     t_exact = time.perf_counter() - t0
     tracemalloc.start()
     t0 = time.perf_counter()
-    blended = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=0.01, mode="arc")
+    blended = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=0.01, mode=mode)
     t_corners = time.perf_counter() - t0
     peak = tracemalloc.get_traced_memory()[1] / 2**20
     tracemalloc.stop()
@@ -69,7 +72,7 @@ def row(chords: int, compensated: bool, with_timing: bool) -> str:
         cycle = "– | – | –"
     kind = "G41.1 D2" if compensated else "G40"
     return (
-        f"| {chords} | {kind} | {t_exact:.2f} | {n} | {t_corners:.3f} | {n / max(t_corners, 1e-9):,.0f} | "
+        f"| {chords} | {kind} | {mode} | {t_exact:.2f} | {n} | {t_corners:.3f} | {n / max(t_corners, 1e-9):,.0f} | "
         f"{peak:.1f} | {blended.max_deviation_mm:.4f} | {cycle} |"
     )
 
@@ -78,13 +81,20 @@ def main(argv: list[str]) -> None:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--sizes", default="200,1000,10000,100000", help="chord counts (comma separated)")
     parser.add_argument("--timing-up-to", type=int, default=10000, help="time the paths up to this many chords")
+    parser.add_argument("--optimal-up-to", type=int, default=10000, help="run optimal up to this many chords")
+    parser.add_argument("--optimal-compensated-up-to", type=int, default=1000,
+                        help="run optimal on the compensated contour up to this many chords")
     args = parser.parse_args(argv)
-    print("| chords | path | exact plan s (baseline, no timing) | corners blended | corner stage s | corners/s "
+    print("| chords | path | mode | exact plan s (baseline, no timing) | corners blended | corner stage s | corners/s "
           "| corner stage peak MiB | max deviation mm | exact cycle s | blended cycle s | speed-up |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for chords in (int(x) for x in args.sizes.split(",")):
         for compensated in (False, True):
-            print(row(chords, compensated, chords <= args.timing_up_to), flush=True)
+            for mode in ("arc", "optimal"):
+                cap = args.optimal_compensated_up_to if compensated else args.optimal_up_to
+                if mode == "optimal" and chords > cap:
+                    continue
+                print(row(chords, compensated, chords <= args.timing_up_to, mode), flush=True)
 
 
 if __name__ == "__main__":
