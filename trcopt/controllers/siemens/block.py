@@ -28,6 +28,32 @@ _GEOMETRY_WORDS = {
     "ASCALE", "MIRROR", "AMIRROR", "AP", "RP", "CIP", "CT", "ASPLINE", "BSPLINE", "CSPLINE",
     "POLY",
 }  # fmt: skip
+#: words that decide which blocks run or where the tool goes and that trcopt does not model: an
+#: error, never an ignored word (the program would be planned along a path the machine does not run)
+_MOTION_WORDS = {
+    # program flow
+    "GOTOF": "a jump", "GOTOB": "a jump", "GOTO": "a jump", "GOTOC": "a jump", "IF": "a condition",
+    "ELSE": "a condition", "ENDIF": "a condition", "WHILE": "a loop", "ENDWHILE": "a loop", "FOR": "a loop",
+    "ENDFOR": "a loop", "REPEAT": "a repetition", "REPEATB": "a repetition", "UNTIL": "a loop",
+    "LOOP": "a loop", "ENDLOOP": "a loop", "CASE": "a branch",
+    # subprograms and cycles
+    "CALL": "a subprogram call", "PCALL": "a subprogram call", "MCALL": "a modal cycle call",
+    "EXTCALL": "a subprogram call", "L": "a subprogram call",
+    # machine coordinates and kinematic transformations
+    "SUPA": "a move in machine coordinates", "TRAORI": "a kinematic transformation",
+    "TRANSMIT": "a kinematic transformation", "TRACYL": "a kinematic transformation",
+    "TRAANG": "a kinematic transformation",
+    # variables and procedures (their values set the motion)
+    "DEF": "a variable definition", "PROC": "a subprogram definition", "SAVE": "a subprogram attribute",
+}  # fmt: skip
+_MOTION_G = {53: "a move in machine coordinates", 153: "a move in machine coordinates"}
+#: keywords without a value that are known not to move the tool (reported and ignored); any other
+#: unknown name on its own may be a subprogram call and stops the program
+_QUIET_KEYWORDS = {
+    "FFWON", "FFWOF", "SOFT", "SOFTA", "BRISK", "BRISKA", "DRIVE", "DRIVEA", "STOPRE", "WAITM", "WAITS",
+    "CFC", "CFTCP", "CFIN", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "COMPSURF", "UPATH", "SPATH",
+    "FNORM", "FLIN", "FCUB", "DIAMOF", "DIAMON", "DIAM90", "ACN", "ACP", "DC", "G60", "G9",
+}  # fmt: skip
 
 
 class Block:
@@ -138,6 +164,14 @@ class WordReader:
                 f"{word.name} is not supported by trcopt (it would change the geometry)",
                 self._at(span, word),
             )
+        what = _motion_word(word)
+        if what is not None:
+            raise fail(
+                Code.NC_UNSUPPORTED,
+                f"{word.text} is {what}, which trcopt does not model: the planned path would not be the "
+                "one the machine runs",
+                self._at(span, word),
+            )
         if word.value is None and word.subscript is None and len(word.name) == 1:
             raise fail(Code.NC_SYNTAX, f"{word.name} without a value", self._at(span, word))
         self._warn(
@@ -161,3 +195,19 @@ class WordReader:
                 self._at(span, word),
             )
         return values
+
+
+def _motion_word(word: Word) -> str | None:
+    """What an unmodelled word that changes the motion does (None for a word that does not)."""
+    if word.name == "G" and type(word.value) is float and word.value in _MOTION_G:
+        return _MOTION_G[int(word.value)]
+    if word.name in _MOTION_WORDS:
+        return _MOTION_WORDS[word.name]
+    if word.subscript is not None and not word.name.startswith("$") and "(" in word.text:
+        return "a cycle or procedure call"  # CYCLE81(…), POCKET3(…), a program with parameters
+    if (
+        word.value is None and word.subscript is None and len(word.name) > 1 and word.name.isidentifier()
+        and word.name not in _QUIET_KEYWORDS
+    ):
+        return "a subprogram call or an unknown keyword"
+    return None

@@ -1,0 +1,50 @@
+"""SINUMERIK words that decide which blocks run or where the tool goes, and that trcopt does not
+model, stop the program with a located error instead of being ignored (a `GOTOF` that skips a
+plunge must not let the plunge be planned)."""
+
+from __future__ import annotations
+
+import pytest
+
+from trcopt.pipeline import PlanOptions, plan
+
+HEAD = "N10 T1 D1\n$TC_DP1[1,1]=120 $TC_DP6[1,1]=3\nN20 G17 G90 G0 X0 Y0 Z5\n"
+
+
+def run(line: str):
+    text = HEAD + f"N30 {line}\nN40 G1 Z-50 F100\nN50 X10\nN60 M30\n"
+    return plan(text, file="w.mpf", options=PlanOptions(timing=False))
+
+
+@pytest.mark.parametrize(
+    ("line", "column", "what"),
+    [
+        ("GOTOF SKIP", 5, "a jump"),
+        ("G0 SUPA Z0", 8, "machine coordinates"),
+        ("G53 G0 Z0", 5, "machine coordinates"),
+        ("G153 Z0", 5, "machine coordinates"),
+        ("CYCLE81(10,0,2,-5)", 5, "cycle or procedure call"),
+        ("MCALL CYCLE81(10,0,2,-5)", 5, "modal cycle call"),
+        ("L100", 5, "subprogram call"),
+        ("MYSUB", 5, "subprogram call"),
+        ("REPEAT SKIP P=2", 5, "repetition"),
+        ("TRAORI", 5, "kinematic transformation"),
+        ("DEF REAL DEPTH", 5, "variable definition"),
+    ],
+)
+def test_unmodelled_motion_word_is_a_located_error(line, column, what):
+    r = run(line)
+    assert not r.ok
+    (err,) = r.errors
+    assert err.code == "NC-UNSUPPORTED"
+    assert (err.span.line, err.span.column, err.span.block) == (4, column, "N30")
+    assert what in err.message
+    # nothing after the error is planned: the plunge of N40 is not in the path
+    assert all(seg.span.line < 5 for seg in r.toolpath)
+
+
+@pytest.mark.parametrize("line", ["FFWON", "SOFT", "STOPRE", "G54", "R1=5", 'MSG("roughing")'])
+def test_words_that_do_not_move_the_tool_still_plan(line):
+    r = run(line)
+    assert r.ok, [d.message for d in r.errors]
+    assert any(seg.span.line == 5 for seg in r.toolpath)
