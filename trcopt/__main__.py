@@ -2,6 +2,9 @@
 
 import sys
 
-from trcopt.cli import main
+try:
+    from trcopt.cli import main
+except KeyboardInterrupt:  # Ctrl-C while the interpreter loads the command line: no traceback
+    sys.exit(130)
 
 sys.exit(main())

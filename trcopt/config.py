@@ -243,6 +243,9 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
         bad = set(table) - _AXIS_KEYS
         if bad:
             raise ConfigError(f"{source}: unknown key axes.{name}.{sorted(bad)[0]}")
+        for key, value in table.items():
+            if not _positive_limit(value):
+                raise ConfigError(f"{source}: axes.{name}.{key} must be a positive finite number, got {value!r}")
         try:
             axes[name] = AxisLimits(
                 float(table["vmax_mm_s"]),
@@ -258,8 +261,8 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
     except ValueError as exc:
         raise ConfigError(f"{source}: {exc}") from None
     rapid = data.get("rapid_mm_min", base.rapid_mm_min)
-    if not isinstance(rapid, int | float) or not rapid > 0:
-        raise ConfigError(f"{source}: rapid_mm_min must be a positive number")
+    if not _positive_limit(rapid):
+        raise ConfigError(f"{source}: rapid_mm_min must be a positive finite number, got {rapid!r}")
     path = _path_from_table(data["path"], source) if "path" in data else base.path
     return Machine(
         name=str(data.get("name", base.name)),
@@ -277,6 +280,8 @@ def load_machine(path: str | Path) -> Machine:
         data = tomllib.loads(p.read_text(encoding="utf-8"))
     except OSError as exc:
         raise ConfigError(f"cannot read machine file {p}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{p}: not a text file (a machine file is UTF-8 TOML): byte {exc.start}") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{p}: invalid TOML: {exc}") from None
     return machine_from_dict(data, str(p))

@@ -69,12 +69,13 @@ def _command(argv: Sequence[str]) -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     args_in = list(sys.argv[1:] if argv is None else argv)
-    parser = build_parser(_command(args_in) or "")
-    args = parser.parse_args(args_in)
-    if not getattr(args, "handler", None):
-        parser.print_help()
-        return EXIT_USAGE
     try:
+        # the parser imports the command's module: Ctrl-C there is an interrupt like any other
+        parser = build_parser(_command(args_in) or "")
+        args = parser.parse_args(args_in)
+        if not getattr(args, "handler", None):
+            parser.print_help()
+            return EXIT_USAGE
         status = int(args.handler(args))
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's flush at exit
         return status
@@ -82,7 +83,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         err(str(exc))
         return EXIT_USAGE
     except KeyboardInterrupt:
-        return 130
+        # Ctrl-C: every output is written atomically, so none is left half-written; no traceback
+        return EXIT_INTERRUPTED
     except BrokenPipeError:
         # the reader of standard output went away (``trcopt plan X | head -1``): stop quietly.
         # Python's SIGPIPE note: point stdout at devnull so the flush at exit raises nothing
@@ -90,6 +92,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BROKEN_PIPE
 
 
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, the status a shell reports for a process stopped by Ctrl-C
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, the status a shell reports for a process killed by SIGPIPE
 
 

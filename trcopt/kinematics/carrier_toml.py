@@ -100,6 +100,8 @@ def load_carrier_toml(path: str | Path) -> Carrier:
             data = tomllib.load(fh)
     except OSError as exc:
         raise ConfigError(f"{p}: cannot read carrier file: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{p}: not a text file (a carrier file is UTF-8 TOML): byte {exc.start}") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{p}: invalid TOML: {exc}") from None
     return carrier_from_toml_dict(data, str(p))

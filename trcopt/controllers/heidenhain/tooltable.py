@@ -110,6 +110,8 @@ def load_tool_table(path: str | os.PathLike[str]) -> dict[int, HhTool]:
         data = tomllib.loads(p.read_text(encoding="utf-8"))
     except OSError as exc:
         raise ConfigError(f"cannot read tool table {p}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{p}: not a text file (a tool table is UTF-8 TOML): byte {exc.start}") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{p}: {exc}") from None
     return tool_table_from_dict(data, str(p))
