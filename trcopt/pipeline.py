@@ -364,6 +364,13 @@ JERK_CHECK_DT_S = 2e-4  # sampling of the limit check of a jerk-limited feed
 ACCELERATION_CHECK_DT_S = 1e-3  # sampling of the limit check of the acceleration-limited feed (as the JSON's)
 
 
+def check_step(duration_s: float, dt_s: float) -> float:
+    """The sampling step of a limit check (:func:`trcopt.timing.trajectory.check_step`)."""
+    from trcopt.timing.trajectory import check_step as step
+
+    return step(duration_s, dt_s)
+
+
 def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, workers: int = 1) -> None:
     try:
         from trcopt.timing import time_parameterize
@@ -376,7 +383,8 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
         return
     result.timing = acceleration_limited
     # never silently wrong: the profile is re-checked against every limit between its grid points
-    rep = acceleration_limited.check_limits(ACCELERATION_CHECK_DT_S)
+    check_dt = check_step(acceleration_limited.duration, ACCELERATION_CHECK_DT_S)
+    rep = acceleration_limited.check_limits(check_dt)
     if not rep.ok:
         from trcopt.errors import TimingError
 
@@ -385,7 +393,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
             f"{max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f}, feed {rep.feed_ratio:.4f} × the limit "
             "(the cycle time is optimistic there; JSON timing.max_ratios)"
         )
-        span = _worst_sample_span(acceleration_limited, machine)
+        span = _worst_sample_span(acceleration_limited, machine, check_dt)
         _timing_warning(result, TimingError(msg, span, Code.TIMING_LIMITS), "timing check")
     if jerk:
         from trcopt.timing.jerk import jerk_limited
@@ -397,7 +405,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
             return
         result.timing = jerk_limited_feed
         # never silently wrong: the profile is re-checked against every limit
-        rep = jerk_limited_feed.check_limits(dt=JERK_CHECK_DT_S)
+        rep = jerk_limited_feed.check_limits(dt=check_step(jerk_limited_feed.duration, JERK_CHECK_DT_S))
         if not rep.ok:
             from trcopt.errors import TimingError
 
@@ -408,11 +416,11 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
             _timing_warning(result, TimingError(msg), "jerk-limited feed check")
 
 
-def _worst_sample_span(trajectory: Trajectory, machine: Machine) -> SourceSpan | None:
+def _worst_sample_span(trajectory: Trajectory, machine: Machine, dt_s: float) -> SourceSpan | None:
     """The source block of the sample whose acceleration is largest against the axis limits."""
     import numpy as np
 
-    smp = trajectory.sample(ACCELERATION_CHECK_DT_S)
+    smp = trajectory.sample(dt_s)
     amax = np.array([machine.axis(k).amax_mm_s2 for k in "XYZ"])
     if not len(smp.segment):
         return None

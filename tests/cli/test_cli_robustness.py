@@ -88,3 +88,79 @@ def test_an_output_that_cannot_be_rendered_names_the_program(tmp_path: Path, cap
     err = capsys.readouterr().err
     assert f"trcopt: error: {GEAR}: non-finite number in plan JSON at toolpath[3]" in err
     assert not out.exists() and not svg.exists()
+
+
+def test_ctrl_c_while_the_command_is_loaded_exits_130_without_a_traceback(monkeypatch, capsys) -> None:
+    import trcopt.cli
+
+    def interrupted(name: str) -> object:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(trcopt.cli.importlib, "import_module", interrupted)
+    try:
+        status = main(["plan", str(GEAR)])
+    except KeyboardInterrupt:  # (would stop the whole test run)
+        pytest.fail("the interrupt escaped main()")
+    assert status == 130
+    assert capsys.readouterr().err == ""
+
+
+def test_ctrl_c_while_writing_leaves_complete_files_or_none(tmp_path: Path, monkeypatch, capsys) -> None:
+    calls: list[int] = []
+    real_fsync = os.fsync
+
+    def fsync(fd: int) -> None:  # the second output is interrupted before it is complete
+        calls.append(fd)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        real_fsync(fd)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    out, nc = tmp_path / "plan.json", tmp_path / "plan.nc"
+    try:
+        status = main(["plan", str(GEAR), "--no-timing", "--json", str(out), "--gcode", str(nc)])
+    except KeyboardInterrupt:  # (would stop the whole test run)
+        pytest.fail("the interrupt escaped main()")
+    assert status == 130
+    assert capsys.readouterr().err == ""
+    assert out.read_text().rstrip().endswith("}")  # the first one is complete
+    assert sorted(os.listdir(tmp_path)) == ["plan.json"]  # the second is not there, nor a temporary
+
+
+def test_ctrl_c_in_a_real_process_exits_130_silently(tmp_path: Path) -> None:
+    # SIGINT arrives while the program is planned (the signal, not a simulated exception)
+    script = (
+        "import os, signal, sys\n"
+        "import trcopt.pipeline as p\n"
+        "p.plan_file = lambda *a, **k: (os.kill(os.getpid(), signal.SIGINT), signal.pause())\n"
+        "from trcopt.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n"
+    )
+    out = tmp_path / "plan.json"
+    proc = subprocess.run(
+        [sys.executable, "-c", script, "plan", str(GEAR), "--json", str(out)],
+        capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)}, cwd=ROOT, timeout=60,
+    )
+    assert proc.returncode == 130 and proc.stderr == "", proc.stderr
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_cycle_longer_than_the_sampling_bound_is_still_checked(tmp_path: Path, monkeypatch, capsys) -> None:
+    # a feed of 60 mm/min over 100 mm: a 100 s cycle, 10⁵ samples at the 1 ms check step, over
+    # the (lowered) bound; the limit check samples coarser instead of failing the plan
+    import json
+
+    import trcopt.timing.checks as checks
+    import trcopt.timing.trajectory as trajectory
+
+    monkeypatch.setattr(trajectory, "MAX_SAMPLES", 20_000)
+    monkeypatch.setattr(checks, "MAX_SAMPLES", 20_000)
+    prog = tmp_path / "slow.mpf"
+    prog.write_text("N10 G0 X0 Y0\nN20 G1 X100 F60\nN30 M30\n")
+    out = tmp_path / "slow.json"
+    assert main(["plan", str(prog), "--gcode", str(tmp_path / "slow.nc"), "--json", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "cycle time 10" in captured.out and captured.err == ""
+    assert (tmp_path / "slow.nc").exists()
+    data = json.loads(out.read_text())  # the JSON's limit check samples coarser as well
+    assert data["ok"] and data["timing"]["limits_ok"]

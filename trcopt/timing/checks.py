@@ -21,6 +21,8 @@ from trcopt.path import Segment
 from trcopt.trajectory import LimitReport, Samples, Trajectory
 
 __all__ = [
+    "MAX_SAMPLES",
+    "check_step",
     "max_jerk",
     "path_deviation",
     "axis_triple",
@@ -33,6 +35,17 @@ __all__ = [
 DEVIATION_PROBES = 64  # states compared with the exact geometry; spread evenly over the profile
 
 
+#: most samples one profile is sampled at (one hour at 1 ms); longer cycles are sampled coarser
+MAX_SAMPLES = 3_600_000
+
+
+def check_step(duration_s: float, dt_s: float) -> float:
+    """The sampling step of a limit check of a ``duration_s`` cycle: ``dt_s``, or coarser for a
+    cycle so long that ``dt_s`` would need more than :data:`MAX_SAMPLES` samples (every grid point
+    is checked exactly whatever the step)."""
+    return max(dt_s, duration_s / (MAX_SAMPLES - 8))
+
+
 def max_jerk(traj: Trajectory, dt: float = 1e-3) -> np.ndarray:
     """Finite-difference per-axis jerk max |Δa|/dt at ``dt`` sampling, mm/s³ (X, Y, Z).
 
@@ -41,7 +54,7 @@ def max_jerk(traj: Trajectory, dt: float = 1e-3) -> np.ndarray:
     """
     if not traj.segments or traj.duration <= dt:
         return np.zeros(3)
-    smp = traj.sample(dt)
+    smp = traj.sample(check_step(traj.duration, dt))
     return (np.abs(np.diff(smp.a, axis=0)) / np.diff(smp.t)[:, None]).max(axis=0)
 
 

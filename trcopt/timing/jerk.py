@@ -50,7 +50,7 @@ from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_labe
 from trcopt.timing.jerk_report import JERK_MEASURE, KNOT_RULE, METHOD, JerkLimitReport, JerkSamples, jerk_limits
 from trcopt.timing.path import PathArrays, path_derivatives
 from trcopt.timing.sections import Section, axis_limits, path_speed_caps, segment_feeds, split_sections
-from trcopt.timing.trajectory import TimedTrajectory, sample_times
+from trcopt.timing.trajectory import TimedTrajectory, check_step, sample_times
 
 __all__ = ["jerk_limited", "JerkTrajectory"]
 
@@ -232,7 +232,7 @@ class JerkTrajectory:
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The ``timing`` object of the plan JSON with ``jerk_limited: true``."""
-        rep = self.check_limits(1e-3)
+        rep = self.check_limits(check_step(self.duration, 1e-3))
         secs = []
         for k, (sec, sol) in enumerate(zip(self.sections, self.solutions, strict=True)):
             a, b = self.section_points[k], self.section_points[k + 1]

@@ -23,12 +23,21 @@ from trcopt.codes import Code
 from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
-from trcopt.timing.checks import PathLimitReport, axis_triple, max_jerk, path_deviation, path_ratios, worst
+from trcopt.timing.checks import (
+    MAX_SAMPLES,
+    PathLimitReport,
+    axis_triple,
+    check_step,
+    max_jerk,
+    path_deviation,
+    path_ratios,
+    worst,
+)
 from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section, axis_limits
 from trcopt.trajectory import Samples
 
-__all__ = ["MAX_SAMPLES", "TimedTrajectory", "sample_times"]
+__all__ = ["MAX_SAMPLES", "TimedTrajectory", "check_step", "sample_times"]
 
 # the constraints binding_constraints() names, in the column order of its table of ratios; the
 # vector limits of the machine, where given, follow in the order of PATH_BINDING_NAMES
@@ -38,10 +47,10 @@ BINDING_NAMES = (
 PATH_BINDING_NAMES = ("path velocity", "path acceleration")
 
 
-# the most samples one call of sample_times() returns: 3.6·10⁶, one hour of cycle at 1 ms (a feed
-# CSV of ≈ 400 MB, half a minute to write). A longer cycle at that rate is refused with a
-# TimingError, not a MemoryError or a write that runs for many minutes.
-MAX_SAMPLES = 3_600_000
+# MAX_SAMPLES (trcopt.timing.checks) is the most samples one call of sample_times() returns:
+# 3.6·10⁶, one hour of cycle at 1 ms (a feed CSV of ≈ 400 MB, half a minute to write). A longer
+# cycle at that rate is refused with a TimingError, not a MemoryError or a write that runs for many
+# minutes; the limit checks of the plan sample such a cycle coarser (check_step).
 
 
 def sample_times(duration: float, dt: float) -> np.ndarray:
@@ -321,7 +330,7 @@ class TimedTrajectory:
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The ``timing`` object of the plan JSON (design.md §3.1); ``samples`` names the CSV."""
-        rep = self.check_limits(1e-3, 1.001) if self.segments else None
+        rep = self.check_limits(check_step(self.duration, 1e-3), 1.001) if self.segments else None
         jerk = max_jerk(self)
         binding = self.binding_constraints()
         sections = []
