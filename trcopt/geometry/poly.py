@@ -90,24 +90,35 @@ class Poly:
     def points_at(self, s: Any) -> Any:
         """Positions at the arc lengths ``s`` (a numpy array, mm), n×3: the interpolation of
         :meth:`derivatives`, evaluated for all of them at once."""
+        return self.derivatives_at(s, 0)
+
+    def derivatives_at(self, s: Any, order: int = 1) -> Any:
+        """Position (``order`` 0) or first derivative (``order`` 1) at the arc lengths ``s`` (a
+        numpy array, mm), n×3, as :meth:`derivatives` computes them, for all of them at once."""
         import numpy as np
 
         cum = np.asarray(self.cum)
         s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
         i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, cum.shape[0] - 2)
         h = cum[i + 1] - cum[i]
-        t = np.where(h > 0, (s - cum[i]) / np.where(h > 0, h, 1.0), 0.0)
+        hh = np.where(h > 0, h, 1.0)
+        t = np.where(h > 0, (s - cum[i]) / hh, 0.0)
         P, M = np.asarray(self.points), np.asarray(self.tangents)
         p0, p1, m0, m1 = P[i], P[i + 1], M[i], M[i + 1]
         hc = h[:, None]
         if self.curvatures is not None:
             K = np.asarray(self.curvatures)
-            b0, _, _ = quintic_hermite_basis(t)
+            basis = quintic_hermite_basis(t)[order]
             rows = (p0, hc * m0, hc * hc * K[i], hc * hc * K[i + 1], hc * m1, p1)
-            return sum(w[:, None] * r for w, r in zip(b0, rows, strict=True))
+            out = sum(w[:, None] * r for w, r in zip(basis, rows, strict=True))
+            return out if order == 0 else out / hh[:, None]
         t2, t3 = t * t, t * t * t
-        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
-        return h00[:, None] * p0 + (h10[:, None] * hc) * m0 + h01[:, None] * p1 + (h11[:, None] * hc) * m1
+        if order == 0:
+            h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+        else:
+            h00, h10, h01, h11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
+        out = h00[:, None] * p0 + (h10[:, None] * hc) * m0 + h01[:, None] * p1 + (h11[:, None] * hc) * m1
+        return out if order == 0 else out / hh[:, None]
 
     def derivatives(self, s: float) -> tuple[Vec3, Vec3, Vec3]:
         """Position, first and second derivative in arc length: cubic Hermite interpolation between
