@@ -194,3 +194,18 @@ def test_jerk_limited_feed_passes_curvature_jumps_at_the_vector_jerk_cap():
     smp = traj.sample(1e-4)
     assert np.linalg.norm(smp.a, axis=1).max() <= A * (1 + 1e-6)
     assert np.linalg.norm(smp.j, axis=1).max() <= J * (1 + 1e-6)
+
+
+def test_sharp_g2_transition_keeps_the_vector_acceleration_between_grid_points():
+    """A 170° turn blended within 0.05 mm by a G2 B-spline peaks at a curvature near 10³/mm within
+    a few µm: the curve's grid must follow its turning there (an even spacing gave 1.33× A)."""
+    from trcopt.optimize.corners.blend import blend_corners
+
+    a, b, c = (0.0, 0.0), (5.0, 0.0), (5.0 - 5.0 * math.cos(math.radians(10.0)), 5.0 * math.sin(math.radians(10.0)))
+    path = [seg(Line((*a, 0.0), (*b, 0.0)), V), seg(Line((*b, 0.0), (*c, 0.0)), V)]
+    res = blend_corners(path, path, tolerance_mm=0.05, machine=VECTOR, mode="optimal", kind="vertex", objective="jerk")
+    assert any(s.geometry.__class__.__name__ == "Poly" for s in res.segments)
+    traj = time_parameterize(res.segments, VECTOR)
+    rep = traj.check_limits(dt=1e-4)
+    assert rep.ok, str(rep)
+    assert rep.path_a_ratio <= 1.001
