@@ -31,6 +31,7 @@ __all__ = [
     "tangency_residual",
     "reversal_residual",
     "element_distance",
+    "line_pair_distances",
     "points_distance",
     "points_foot",
     "bbox",
@@ -254,6 +255,29 @@ def _pair_distance(a: Line | Arc, b: Line | Arc) -> tuple[float, Vec2]:
                         )
                     )
     return min(cands, key=lambda c: c[0])
+
+
+def line_pair_distances(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+    """Exact minimum plane distances (mm) between the segments ``p0p1`` and ``q0q1`` (each n×2):
+    :func:`element_distance` of many pairs of lines at once — 0 where they cross, else the
+    smallest distance of an end point to the other segment."""
+
+    def point_segment(pt: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        d = b - a
+        dd = (d * d).sum(axis=1)
+        t = np.where(dd > 0.0, ((pt - a) * d).sum(axis=1) / np.where(dd > 0.0, dd, 1.0), 0.0)
+        t = np.clip(t, 0.0, 1.0)
+        return np.hypot(pt[:, 0] - a[:, 0] - t * d[:, 0], pt[:, 1] - a[:, 1] - t * d[:, 1])
+
+    def orient(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+    ends = np.minimum(
+        np.minimum(point_segment(p0, q0, q1), point_segment(p1, q0, q1)),
+        np.minimum(point_segment(q0, p0, p1), point_segment(q1, p0, p1)),
+    )
+    crossing = (orient(p0, p1, q0) * orient(p0, p1, q1) < 0.0) & (orient(q0, q1, p0) * orient(q0, q1, p1) < 0.0)
+    return np.where(crossing, 0.0, ends)
 
 
 def element_distance(a: Element, b: Element) -> tuple[float, Vec2]:

@@ -54,6 +54,7 @@ from trcopt.codes import Code
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import Arc, Line
 from trcopt.path import Role, Segment
+from trcopt.verify.clearance import clearance_distances
 from trcopt.verify.contour import contour_blocks
 from trcopt.verify.index import BoxGrid
 from trcopt.verify.joints import (
@@ -63,7 +64,7 @@ from trcopt.verify.joints import (
     continuation_residuals,
     continuations,
 )
-from trcopt.verify.model import bbox, carrier_residual, element_distance, reversal_residual, tangency_residual
+from trcopt.verify.model import bbox, carrier_residual, reversal_residual, tangency_residual
 
 __all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "FAMILIES", "FAMILY_CODES"]
 
@@ -451,15 +452,14 @@ def verify_plan(
     }
     limits = clearance_limits(toolpath, blocks, conts, leads)
     allowed: dict[str, tuple[float, int]] = {}  # kind → (largest R − distance within its limit, segment)
+    distances = clearance_distances(toolpath, part, grid, _COMPENSATED_ROLES)
     for k, seg in enumerate(toolpath):
-        g = seg.geometry
-        if seg.radius <= 0.0 or g.plane_length <= 0.0 or seg.role not in _COMPENSATED_ROLES or not part:
+        if k not in distances:
             continue
         R = seg.radius
         own = limits.get(k, {})
         worst = 0.0
-        for i in grid.near(bbox(g), R):
-            d = element_distance(g, part[i].geometry)[0]
+        for i, d in distances[k]:
             lim = own.get(i)
             if lim is None:
                 worst = max(worst, R - d)

@@ -1,0 +1,77 @@
+"""`trcopt plan` end to end on programs of 10⁴–10⁶ blocks: wall time, blocks/s and peak memory.
+
+Run:  python benchmarks/bench_plan_scale.py [--sizes 10000,100000] [--rs274 PATH]
+
+The program is the compensated CAM contour of ``bench_cam_scale.py`` (LinuxCNC, ``G41.1 D2``, N
+chords of ≥ 0.25 mm, F6000). Each row is one ``python -m trcopt plan`` process (peak resident
+memory by ``/usr/bin/time``): without timing, with the acceleration-limited timing, and with
+timing and ``--json``/``--gcode`` written. The baseline of the same run is LinuxCNC's own
+interpreter ``rs274`` on the same file where it is available (built outside the project as
+``../shared/peer_cases/linuxcnc/BUILD_RS274.md`` describes; ``--rs274``), else the rows stand alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+
+from bench_cam_scale import contour  # noqa: E402
+
+TIME = shutil.which("time") or "/usr/bin/time"
+
+
+def run(cmd: list[str]) -> tuple[float, float, int]:
+    """(wall s, peak RSS MiB, exit status) of one process."""
+    with tempfile.NamedTemporaryFile("r", suffix=".txt") as rss:
+        t0 = time.perf_counter()
+        done = subprocess.run([TIME, "-f", "%M", "-o", rss.name, *cmd], capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        kb = rss.read().strip().splitlines()
+    peak = float(kb[-1]) / 1024 if kb and kb[-1].isdigit() else float("nan")
+    return wall, peak, done.returncode
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
+    parser.add_argument("--sizes", default="10000,100000", help="chords (blocks, about) per program")
+    parser.add_argument("--rs274", default=os.environ.get("RS274", "/tmp/lcnc/bin/rs274"))
+    args = parser.parse_args(argv)
+    table = Path("/work/shared/peer_cases/linuxcnc/_default-tooltable/sim.tbl")
+    rs274 = args.rs274 if Path(args.rs274).exists() and table.exists() else None
+    print("| blocks | run | wall s | blocks/s | peak MiB | exit | vs rs274 |")
+    print("|---|---|---|---|---|---|---|")
+    py = [sys.executable, "-m", "trcopt", "plan"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for chords in (int(x) for x in args.sizes.split(",")):
+            prog = Path(tmp) / f"cam{chords}.ngc"
+            prog.write_text(contour(chords, compensated=True))
+            blocks = sum(1 for line in prog.read_text().splitlines() if line.strip())
+            base = None
+            if rs274:
+                wall, peak, code = run([rs274, "-t", str(table), "-g", str(prog)])
+                base = wall
+                print(f"| {blocks:,} | rs274 (baseline) | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} | 1.00 |")
+            runs = [
+                ("trcopt plan --no-timing", [*py, str(prog), "--no-timing"]),
+                ("trcopt plan (timing)", [*py, str(prog)]),
+                ("trcopt plan --json --gcode", [*py, str(prog), "--json", f"{tmp}/o.json", "--gcode", f"{tmp}/o.ngc"]),
+            ]
+            for name, cmd in runs:
+                wall, peak, code = run(cmd)
+                ratio = f"{wall / base:.1f}" if base else "–"
+                print(f"| {blocks:,} | {name} | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} | {ratio} |",
+                      flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
