@@ -52,21 +52,14 @@ def test_a_machine_file_that_is_not_text_is_an_error_naming_it(tmp_path: Path, c
     assert f"trcopt: error: {p}: not a text file" in err and "Traceback" not in err
 
 
-def test_a_heidenhain_tool_table_that_is_not_text_is_an_error_naming_it(tmp_path: Path) -> None:
+@pytest.mark.parametrize("kind", ["heidenhain tool table", "carrier"])
+def test_a_toml_file_that_is_not_text_is_an_error_naming_it(tmp_path: Path, kind: str) -> None:
     from trcopt.controllers.heidenhain.tooltable import load_tool_table
-
-    p = tmp_path / "tools.toml"
-    p.write_bytes(BINARY)
-    with pytest.raises(ConfigError, match="not a text file") as exc:
-        load_tool_table(p)
-    assert str(p) in str(exc.value)
-
-
-def test_a_carrier_file_that_is_not_text_is_an_error_naming_it(tmp_path: Path) -> None:
     from trcopt.kinematics.carrier_toml import load_carrier_toml
 
-    p = tmp_path / "carrier.toml"
+    load = load_tool_table if kind == "heidenhain tool table" else load_carrier_toml
+    p = tmp_path / "file.toml"
     p.write_bytes(BINARY)
     with pytest.raises(ConfigError, match="not a text file") as exc:
-        load_carrier_toml(p)
+        load(p)
     assert str(p) in str(exc.value)

@@ -209,22 +209,14 @@ def clearance_limits(
     for i, p in enumerate(blocks.part):
         part_by_line.setdefault(p.span.line, []).append(i)
     for closing in blocks.closings:
-        first = [
-            k
-            for k, s in enumerate(toolpath)
-            if s.span.line == closing.first_line
-            and s.radius > 0.0
-            and s.role in (Role.CONTOUR, Role.CORNER)
-            and k not in leads
-        ]
-        last = [
-            k
-            for k, s in enumerate(toolpath)
-            if s.span.line == closing.last_line
-            and s.radius > 0.0
-            and s.role in (Role.CONTOUR, Role.CORNER)
-            and k not in leads
-        ]
+        first, last = (
+            [
+                k
+                for k, s in enumerate(toolpath)
+                if s.span.line == line and s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER) and k not in leads
+            ]
+            for line in (closing.first_line, closing.last_line)
+        )
         if not first or not last:
             continue
         # only where a lead move ends (starts) at that point: its own lead clearance shows the overlap
