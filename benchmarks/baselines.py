@@ -78,6 +78,7 @@ __all__ = [
     "reachable_speed",
     "plan_block",
     "bidirectional_scan",
+    "vector_load",
     "g01_baseline",
     "zhao_transitions",
     "transition_cap",
@@ -579,6 +580,38 @@ def normal_load(res: PlanResult, lim: Limits, samples: int = 801) -> tuple[float
         kap = t.curvature(u)
         acc = max(acc, float(np.max(v**2 * kap)) / lim.A)
         jerk = max(jerk, float(np.max(v**3 * kap**2)) / lim.J)
+    return acc, jerk
+
+
+def vector_load(res: PlanResult, lim: Limits, samples: int = 2001) -> tuple[float, float]:
+    """Largest |a|/A and |j|/J on the transitions of a :func:`zhao2013` plan, with every term:
+    ``a = a_t·T + κv²·N`` and ``j = (j_t − κ²v³)·T + (3κ·v·a_t + κ′v³)·N`` (plane curve in arc
+    length; κ′ = dκ/ds). :func:`normal_load` keeps only κv² and κ²v³, the terms the plan's
+    speed cap controls."""
+    if not res.transitions:
+        return 0.0, 0.0
+    parts = []
+    offset = 0.0
+    for p in res.profiles:
+        t = np.unique(np.r_[np.linspace(0.0, p.duration, 2000), p.knots()[:, 0]])
+        s, v, a, j = p.sample(t)
+        parts.append(np.c_[s + offset, v, a, j])
+        offset += p.length
+    table = np.concatenate(parts)
+    table = table[np.argsort(table[:, 0], kind="stable")]
+    acc = jerk = 0.0
+    u = np.linspace(0.0, 1.0, samples)
+    for t, s0 in zip(res.transitions, res.transition_starts, strict=True):
+        speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
+        s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
+        s_loc *= t.arc_length / s_loc[-1]
+        v, a_t, j_t = (np.interp(s0 + s_loc, table[:, 0], table[:, c]) for c in (1, 2, 3))
+        kap = t.curvature(u)
+        dkap = np.gradient(kap, s_loc)
+        a_norm = np.hypot(a_t, kap * v**2)
+        j_norm = np.hypot(j_t - kap**2 * v**3, 3.0 * kap * v * a_t + dkap * v**3)
+        acc = max(acc, float(np.max(a_norm)) / lim.A)
+        jerk = max(jerk, float(np.max(j_norm)) / lim.J)
     return acc, jerk
 
 
