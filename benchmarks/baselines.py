@@ -478,10 +478,20 @@ def zhao_transitions(points: np.ndarray, eps: float, share: float = 0.5) -> list
     return out
 
 
-def transition_cap(t: Transition, lim: Limits) -> float:
-    """Speed cap of a transition: min(V, sqrt(A/κmax), (J/κmax²)^(1/3))."""
+def transition_cap(t: Transition, lim: Limits, every_term: bool = False) -> float:
+    """Speed cap of a transition: min(V, sqrt(A/κmax), (J/κmax²)^(1/3)); with ``every_term`` the
+    jerk of the curvature change as well: at constant speed ``|j| = v³·sqrt(κ⁴ + κ′²)`` (κ′ =
+    dκ/ds, sampled), so ``v ≤ (J / max sqrt(κ⁴ + κ′²))^(1/3)``."""
     kap = t.kappa_max
-    return min(lim.V, math.sqrt(lim.A / kap), (lim.J / kap**2) ** (1.0 / 3.0))
+    cap = min(lim.V, math.sqrt(lim.A / kap), (lim.J / kap**2) ** (1.0 / 3.0))
+    if every_term:
+        u = np.linspace(0.0, 1.0, 4001)
+        speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
+        s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
+        k = t.curvature(u)
+        worst = float(np.max(np.hypot(k * k, np.gradient(k, s_loc))))
+        cap = min(cap, (lim.J / worst) ** (1.0 / 3.0))
+    return cap
 
 
 def zhao2013(points: np.ndarray, eps: float, lim: Limits = Limits(), share: float = 0.5,
@@ -503,9 +513,15 @@ def zhao2013(points: np.ndarray, eps: float, lim: Limits = Limits(), share: floa
       ends) and the speed may rise; :func:`normal_load` reports what v²κ and v³κ² that gives.
     * ``"constant"``: conservative variant, every transition is its own block with the cap as
       its cruise limit (crossed at constant speed between long lines).
+    * ``"every-term"``: ``"constant"`` with the cap bounding the jerk of the curvature change as
+      well (:func:`transition_cap` ``every_term``) — the reading that keeps |j| ≤ J
+      (:func:`vector_load`), not in the paper.
     """
-    if transition_speed not in ("midpoint", "constant"):
-        raise ValueError("transition_speed must be 'midpoint' or 'constant'")
+    if transition_speed not in ("midpoint", "constant", "every-term"):
+        raise ValueError("transition_speed must be 'midpoint', 'constant' or 'every-term'")
+    every = transition_speed == "every-term"
+    if every:
+        transition_speed = "constant"
     pts = _clean(points)
     lengths = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     trans = zhao_transitions(pts, eps, share)
@@ -535,7 +551,7 @@ def zhao2013(points: np.ndarray, eps: float, lim: Limits = Limits(), share: floa
         starts.append(s_path)
         arc = t.arc_length
         s_path += arc
-        cap = transition_cap(t, lim)
+        cap = transition_cap(t, lim, every)
         if transition_speed == "constant":
             block_len.append(arc)
             block_cap.append(cap)

@@ -59,7 +59,8 @@ def main(argv: list[str]) -> int:
             if rs274:
                 wall, peak, code = run([rs274, "-t", str(table), "-g", str(prog)])
                 base = wall
-                print(f"| {blocks:,} | rs274 (baseline) | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} | 1.00 |")
+                print(f"| {blocks:,} | rs274 (baseline) | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} "
+                      "| 1.00 |")
             runs = [
                 ("trcopt plan --no-timing", [*py, str(prog), "--no-timing"]),
                 ("trcopt plan (timing)", [*py, str(prog)]),

@@ -30,8 +30,9 @@ ROOT = Path(__file__).resolve().parent
 sys.path.insert(0, str(ROOT.parent))
 sys.path.insert(0, str(ROOT))
 
-import trcopt.timing.solve as solve_module  # noqa: E402
 from bench_cam_scale import contour  # noqa: E402
+
+import trcopt.timing.solve as solve_module  # noqa: E402
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing.own import WINDOW_INTERVALS, solve_own  # noqa: E402
 
