@@ -131,6 +131,7 @@ class PlanResult:
     timing: Trajectory | None = None  # acceleration- or jerk-limited feed, when computed
     extra: dict[str, Any] = field(default_factory=dict)
     verification: Any = None  # trcopt.verify.VerificationReport when computed
+    source: str = ""  # the program text (the G-code writer reads its unit words and programmed axes)
 
     @property
     def ok(self) -> bool:
@@ -254,6 +255,7 @@ def plan(
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, reader.dialect, nc, programmed, toolpath, diagnostics)
+    result.source = source
     result.extra["profile"] = profile.name
     _attach_toolholder(result)
     if opts.verify:

@@ -157,7 +157,8 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_plan(args: argparse.Namespace) -> int:
-    from trcopt.io import dumps_plan, toolpath_to_gcode, write_text_atomic
+    from trcopt.io import dumps_plan, write_text_atomic
+    from trcopt.io.gcode_program import plan_to_gcode
     from trcopt.pipeline import plan_file
 
     if (args.csv or args.png) and args.no_timing:
@@ -177,8 +178,12 @@ def run_plan(args: argparse.Namespace) -> int:
         outputs.append(
             (
                 args.gcode,
-                lambda: toolpath_to_gcode(
-                    result.toolpath, flavor=flavor, decimals=args.decimals, program_name=Path(args.program).name
+                lambda: plan_to_gcode(
+                    result,
+                    flavor=flavor,
+                    dialect=controllers.get(args.gcode_flavor or result.dialect).dialect,
+                    decimals=args.decimals,
+                    program_name=Path(args.program).name,
                 ),
             )
         )

@@ -36,7 +36,7 @@ from trcopt.io.gcode_check import check_gcode_arcs
 from trcopt.path import Role, Segment
 from trcopt.units import mm_s_to_mm_min
 
-__all__ = ["GcodeError", "GcodeFlavor", "toolpath_to_gcode", "check_gcode_arcs"]
+__all__ = ["GcodeError", "GcodeFlavor", "toolpath_to_gcode", "check_gcode_arcs", "open_writer", "write_segment"]
 
 MAX_DECIMALS = 6
 POLY_OUTPUTS = ("arcs", "chords")
@@ -131,6 +131,11 @@ class _Writer:
     number: int = 0
     fit_tolerance: float = 0.001  # largest distance of the written arcs from a Poly, mm
     poly_output: str = "arcs"
+    # where a program starts (the readers' start point): an axis the program has not moved yet
+    # stays unwritten (None) until it moves or its source block names it
+    assumed: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    programmed: frozenset[int] = frozenset()  # axes (0 1 2) the current source block writes
+    started: bool = False
 
     # -- block assembly -------------------------------------------------------------------------
     def comment(self, text: str) -> str:
@@ -163,6 +168,9 @@ class _Writer:
         words = []
         for i, name in enumerate("XYZ"):
             r = _round(xyz[i], decimals)
+            if self.pos[i] is None and i not in force and i not in self.programmed:
+                if r == _round(self.assumed[i], decimals):
+                    continue  # not moved by the program yet: the machine's position is kept
             if self.pos[i] is None or r != self.pos[i] or i in force:
                 words.append(f"{name}{self.num(xyz[i], decimals)}")
                 self.pos[i] = r
@@ -175,10 +183,14 @@ class _Writer:
         return [plane.value]
 
     # -- motions --------------------------------------------------------------------------------
+    def here(self) -> list[float]:
+        """The written position, the start point for axes not written yet."""
+        return [self.assumed[i] if c is None else float(c) for i, c in enumerate(self.pos)]
+
     def straight(self, g: str, end: Vec3, feed_mm_s: float | None, note: str | None) -> bool:
         digits = self.decimals
-        if g != "G0" and None not in self.pos:
-            here = [float(c) for c in self.pos]  # type: ignore[arg-type]
+        if g != "G0":
+            here = self.here()
             length = math.dist(here, end)
             if length < 0.5 * 10.0**-self.decimals:
                 # shorter than the output resolution (a sliver between two transitions): the
@@ -219,10 +231,7 @@ def _arc_block(
     end_xyz = plane.to_xyz(arc.end)
     start_xyz = plane.to_xyz(arc.start)
     # the controller starts where the last block ended (as written)
-    s_xyz: list[float] = []
-    for i in range(3):
-        known = w.pos[i]
-        s_xyz.append(known if known is not None else _round(start_xyz[i], w.decimals))
+    s_xyz = [known if known is not None else _round(start_xyz[i], w.decimals) for i, known in enumerate(w.pos)]
     s_u, s_v = s_xyz[ui], s_xyz[vi]
     cu, cv = arc.center
     sense = 1 if arc.sweep > 0 else -1
@@ -306,7 +315,7 @@ def _close_gap(w: _Writer, seg: Segment, note: str) -> None:
     """A straight move to the segment's start when the path has a gap there, so that an arc
     starts where it was planned."""
     start = seg.start_xyz
-    if math.dist([float(c) for c in w.pos], start) > max(w.tolerance, 10.0**-w.decimals):  # type: ignore[arg-type]
+    if math.dist(w.here(), start) > max(w.tolerance, 10.0**-w.decimals):
         w.straight("G1", start, seg.feed_mm_s, f"gap before {note}")
 
 
@@ -325,13 +334,19 @@ def _write_poly_arcs(w: _Writer, seg: Segment, g: Poly, note: str | None) -> Non
             note = None  # name the source once, on the first piece
 
 
-def _write_segment(w: _Writer, seg: Segment) -> None:
+def write_segment(w: _Writer, seg: Segment) -> None:
+    """Write one segment of the tool-centre path."""
     g = seg.geometry
     note: str | None = _source_note(seg)
     plane = seg.plane
-    if any(c is None for c in w.pos):
-        # the controller's position is unknown: the path starts with a rapid to its start point
-        w.straight("G0", seg.start_xyz, None, f"start of path, {note}")
+    if not w.started:
+        w.started = True
+        if math.dist(seg.start_xyz, w.assumed) > 1e-9:
+            # a path that does not start where a program starts (a hand-built or cut-out path):
+            # a rapid to its start point
+            programmed, w.programmed = w.programmed, frozenset((0, 1, 2))
+            w.straight("G0", seg.start_xyz, None, f"start of path, {note}")
+            w.programmed = programmed
     if isinstance(g, Line):
         w.straight("G0" if seg.is_rapid else "G1", seg.end_xyz, seg.feed_mm_s, note)
         return
@@ -396,6 +411,36 @@ def toolpath_to_gcode(
     str
         The program text, one block per line, ending with a newline.
     """
+    segs = list(segments)
+    w = open_writer(
+        segs,
+        flavor=flavor,
+        decimals=decimals,
+        arc_tolerance_mm=arc_tolerance_mm,
+        program_name=program_name,
+        fit_tolerance_mm=fit_tolerance_mm,
+        poly_output=poly_output,
+    )
+    for seg in segs:
+        write_segment(w, seg)
+    w.emit([flavor.end])
+    return "\n".join(w.lines) + "\n"
+
+
+def open_writer(
+    segs: Sequence[Segment],
+    *,
+    flavor: GcodeFlavor,
+    decimals: int,
+    arc_tolerance_mm: float,
+    program_name: str,
+    fit_tolerance_mm: float,
+    poly_output: str,
+    preamble: Sequence[str] = (),
+    header: Sequence[str] = (),
+) -> _Writer:
+    """A writer with the header comments, the preamble block (``preamble`` instead of the
+    flavour's when given) and the continuous-path words written; ``header``: more comment lines."""
     if not isinstance(flavor, GcodeFlavor):
         raise GcodeError(f"invalid G-code flavor {flavor!r}: a GcodeFlavor (trcopt.controllers.get(name).gcode)")
     if not 0 <= int(decimals) <= MAX_DECIMALS:
@@ -405,11 +450,12 @@ def toolpath_to_gcode(
     fit_tol = _fit_tolerance(fit_tolerance_mm)
     if poly_output not in POLY_OUTPUTS:
         raise GcodeError(f"invalid poly_output {poly_output!r}; valid: {', '.join(POLY_OUTPUTS)}")
-    segs = list(segments)
     w = _Writer(flavor, int(decimals), float(arc_tolerance_mm), [], [None, None, None])
     w.fit_tolerance, w.poly_output = fit_tol, poly_output
     w.lines.append(w.comment(f"trcopt tool-centre path of {program_name}"))
     w.lines.append(w.comment("G40 only: coordinates are the tool centre, no radius compensation"))
+    w.lines.extend(w.comment(text) for text in header)
+
     def curve_as_arcs(s: Segment) -> bool:
         return poly_output == "arcs" and isinstance(s.geometry, Poly) and not s.is_rapid
 
@@ -422,16 +468,13 @@ def toolpath_to_gcode(
     # the plane of the first arc (a curve written as arcs counts) goes into the preamble
     first = next((s for s in segs if isinstance(s.geometry, Arc) or curve_as_arcs(s)), segs[0] if segs else None)
     w.plane = first.plane if first is not None else Plane.G17
-    w.emit([*flavor.preamble, w.plane.value])
+    w.emit([*(preamble or flavor.preamble), w.plane.value])
     if curves:
         # the curves become chains of short tangent-continuous pieces: no stop between them
         tol_text = _fmt(fit_tol, min(15, max(MAX_DECIMALS, 2 - math.floor(math.log10(fit_tol)))), flavor)
         for block in flavor.continuous_path:
             w.emit([block.format(tol=tol_text)])
-    for seg in segs:
-        _write_segment(w, seg)
-    w.emit([flavor.end])
-    return "\n".join(w.lines) + "\n"
+    return w
 
 
 def _fit_tolerance(value: object) -> float:

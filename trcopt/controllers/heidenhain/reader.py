@@ -88,7 +88,8 @@ class HeidenhainReader(MotionBlocks):
                 )
         self._check_radius()
         moves = self._moves()
-        return NcProgram(self.file, "heidenhain", tuple(moves), tuple(self.diags), self.blocks)
+        extras: dict[str, object] = {"words": self.word_blocks}
+        return NcProgram(self.file, "heidenhain", tuple(moves), tuple(self.diags), self.blocks, extras)
 
     def _load_table(self) -> None:
         path = find_tool_table(self.file)
@@ -128,7 +129,12 @@ class HeidenhainReader(MotionBlocks):
         if st.startswith("BLK FORM"):
             return
         if st in ("TOOL DEF", "TOOL CALL"):
-            self._tool(blk, self._words(blk, ALLOWED_WORDS[st]), span)
+            words = self._words(blk, ALLOWED_WORDS[st])
+            self._tool(blk, words, span)
+            if st == "TOOL CALL":
+                tool = next(w.text.strip("\"'") for k, w in words.items() if k.startswith("#"))
+                speed = [f"S{float(words['S'].value or 0.0):g}"] if "S" in words else []
+                self.word_blocks.append((span, (f"T{tool}" if tool.isdigit() else f'T="{tool}"', *speed)))
             return
         if st == "PGM CALL":
             self._no_open_corner(st)
@@ -157,7 +163,7 @@ class HeidenhainReader(MotionBlocks):
             self.last_pa = self.last_pr = None
             return
         if st == "STOP":
-            self._words(blk, ALLOWED_WORDS["STOP"])
+            self.word_blocks.append((span, ("M0", *self._actions(self._words(blk, ALLOWED_WORDS["STOP"])))))
             return
         if st == "CYCL DEF":
             self._cycle(blk, span)

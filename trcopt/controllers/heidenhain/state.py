@@ -142,6 +142,8 @@ class ReaderState:
         self.corner: tuple[str, float, float | None, SourceSpan] | None = None
         self.appr: PendingApproach | None = None
         self.blocks = 0
+        # the words of blocks without motion (TOOL CALL, STOP), for the G-code writer
+        self.word_blocks: list[tuple[SourceSpan, tuple[str, ...]]] = []
         self.ended = False
         self.controls: list[tuple[int, PathControl]] = []  # (source line, path control from there on)
         self.warned_m90 = False

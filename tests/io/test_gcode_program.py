@@ -1,0 +1,260 @@
+"""Safe tool-centre G-code of a whole plan (issue 18, part 1): the program's non-motion words in
+order at the place they act, no invented motion, the alarm and omitted blocks named, the program's
+units, each motion traceable; and the round trip — the written program, planned again, gives the
+same tool-centre path and the same words in the same order."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from trcopt import PlanOptions, controllers, plan, plan_file
+from trcopt.io.gcode_program import kept_words
+from trcopt.io.gcode_program import plan_to_gcode as _plan_to_gcode
+
+PROBLEMS = Path(__file__).resolve().parents[2] / "problems"
+
+CAM_SIEMENS = """; CAM-post style program
+$TC_DP1[3,1]=120 $TC_DP6[3,1]=4
+N5 G54 G17 G90
+N10 T3 M6
+N15 D1 S8000 M3 M8
+N20 MSG("roughing")
+N25 G0 X-20 Y-20
+N26 Z2
+N30 G1 Z-1 F200
+N35 G41 X0 Y0 F500
+N40 Y40
+N45 G4 F1.5
+N50 X40 M0
+N60 Y0
+N70 X0
+N80 G40 X-20 Y-20 M5 M9
+N85 G0 Z50
+N90 M30
+"""
+
+CAM_RS274_INCH = """(CAM post, inch)
+G20 G17 G90 G40
+G54
+T2 M6
+S12000 M3
+M8
+G0 X-1 Y-1
+G0 Z0.1
+G1 Z-0.05 F10
+G41.1 D0.25 G1 X0 Y0 F20
+G1 Y2
+G4 P0.5
+G1 X2
+G2 X3 Y1 I0 J-1
+G1 Y0
+G1 X0
+G40 G1 X-1 Y-1
+M5 M9
+G0 Z1
+M2
+"""
+
+OPTS = PlanOptions(timing=False)
+
+
+def plan_to_gcode(result, flavor=None, **kw):
+    """The writer with the reading controller's flavour unless another is given."""
+    return _plan_to_gcode(result, flavor=flavor or controllers.get(result.dialect).gcode, **kw)
+
+
+def _planned(text: str, file: str, **kw):
+    return plan(text, file=file, options=PlanOptions(timing=False, **kw))
+
+
+def _points(toolpath, n: int = 40) -> np.ndarray:
+    pts = []
+    for s in toolpath:
+        g = s.geometry
+        pts += [s.plane.to_xyz(g.point(g.length * k / n)) for k in range(n + 1)]
+    return np.array(pts)
+
+
+def _hausdorff(a, b) -> float:
+    pa, pb = _points(a), _points(b)
+    d = np.sqrt(((pa[:, None, :] - pb[None, :, :]) ** 2).sum(axis=2))
+    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+
+
+def _words(result) -> list[str]:
+    blocks = [(m.span.line, m.actions) for m in result.nc.moves]
+    blocks += [(span.line, actions) for span, actions in result.nc.extras.get("words", ())]
+    return [w for _, actions in sorted(blocks, key=lambda b: b[0]) for w in kept_words(actions)]
+
+
+def _body(text: str) -> list[str]:
+    return [ln for ln in text.splitlines() if not ln.startswith((";", "("))]
+
+
+def _code(line: str) -> str:
+    return re.sub(r"\(.*?\)|;.*$", "", line).strip()
+
+
+# ------------------------------------------------------------------------------ round trip
+@pytest.mark.parametrize(
+    ("source", "file", "flavor", "again_file", "decimals"),
+    [
+        (CAM_SIEMENS, "cam.mpf", "siemens", "out.mpf", 6),
+        (CAM_SIEMENS, "cam.mpf", "siemens", "out.mpf", 4),
+        (CAM_RS274_INCH, "cam.ngc", "linuxcnc", "out.ngc", 5),
+        ((PROBLEMS / "heidenhain" / "h04_appr_dep_lt.h").read_text(), "h04.h", "heidenhain", "out.mpf", 6),
+        ((PROBLEMS / "siemens" / "ex06_bottleneck_cdon.mpf").read_text(), "ex06.mpf", "siemens", "out.mpf", 6),
+    ],
+)
+def test_the_written_program_replans_to_the_same_path_and_words(source, file, flavor, again_file, decimals) -> None:
+    first = _planned(source, file)
+    text = plan_to_gcode(first, flavor=controllers.get(flavor).gcode, decimals=decimals)
+    # the written program is read as it is (a Heidenhain plan is written as ISO G-code)
+    again = _planned(text, again_file, corners="exact")
+    assert again.ok, [d.format() for d in again.errors]
+    inch = "G20" in text.split("\n", 4)[3] or "G70" in text
+    written = 0.5 * 10.0**-decimals * (25.4 if inch else 1.0) * math.sqrt(3)
+    assert _hausdorff(first.toolpath, again.toolpath) <= max(1e-6, written)
+    assert again.path_length == pytest.approx(first.path_length, abs=max(1e-6, 10 * written))
+    assert _words(again) == _words(first)
+
+
+# ------------------------------------------------------------------------------ 1. words
+def test_non_motion_words_are_written_in_order_where_they_act() -> None:
+    text = plan_to_gcode(_planned(CAM_SIEMENS, "cam.mpf"))
+    code = [ln.split(";")[0].strip() for ln in _body(text)]  # MSG("…") has parentheses
+    stripped = [re.sub(r"^N\d+ ", "", c) for c in code]
+    idx = {c: i for i, c in enumerate(stripped)}
+    first_motion = next(i for i, c in enumerate(stripped) if re.match(r"G[0-3] ", c))
+    # tool change, spindle, coolant, work offset and message before the first motion, in order
+    assert idx["G54"] < idx["T3 M6"] < idx["D1 S8000 M3 M8"] < idx['MSG("roughing")'] < first_motion
+    # the dwell between the motions of N40 and N50
+    assert stripped[idx["G4 F1.5"] - 1] == "G1 Y40"
+    # M0 acts at the end of its block N50: after the motion of N50, before the motions of N60
+    assert stripped[idx["M0"] - 1] == "G1 X40" and "N50" in _body(text)[idx["M0"]]
+    # M5 M9 after the retract of their block N80, before the rapid of N85
+    assert stripped[idx["M5 M9"] - 1] == "G1 X-20 Y-20" and stripped[idx["M5 M9"] + 1] == "G0 Z50"
+    assert stripped[-1] == "M30" and stripped.count("M30") == 1
+
+
+def test_the_words_of_a_heidenhain_tool_call_and_stop_are_kept() -> None:
+    source = (PROBLEMS / "heidenhain" / "h04_appr_dep_lt.h").read_text().replace(
+        "5 L X+0 Y+40", "5 L X+0 Y+40 M8\n5 STOP M5"
+    )
+    text = plan_to_gcode(_planned(source, "h.h"))
+    code = [re.sub(r"^N\d+ ", "", _code(ln)) for ln in _body(text)]
+    assert code[1] == "T1 S3000"  # TOOL CALL 1 Z S3000, before the first motion
+    assert "M8" in code and "M0 M5" in code and code.index("M8") < code.index("M0 M5")
+
+
+def test_words_another_flavour_cannot_read_become_comments() -> None:
+    text = plan_to_gcode(_planned(CAM_SIEMENS, "cam.mpf"), flavor=controllers.get("linuxcnc").gcode)
+    assert "(MSG, roughing)" in text.splitlines()
+    assert "G4 P1.5 (N45 L12)" in text.splitlines()
+    assert "(L2 not written in linuxcnc G-code: $TC_DP1[3,1]=120)" in text.splitlines()
+    assert "T3 M6 (N10 L4)" in text.splitlines() and "S8000 M3 M8 (N15 L5)" in text.splitlines()
+
+
+def test_the_program_path_control_is_a_comment_not_a_second_rounding() -> None:
+    source = CAM_SIEMENS.replace("N5 G54 G17 G90", "N5 G54 G17 G90 G642 ADIS=0.5")
+    text = plan_to_gcode(_planned(source, "cam.mpf"))
+    assert "ADIS" not in "".join(_code(ln) for ln in text.splitlines())
+    assert "; N5 L3 path control G642 ADIS=0.5: its rounding is in the tool-centre path" in text
+
+
+# ------------------------------------------------------------------------------ 2. no invented motion
+def test_no_motion_the_program_did_not_command() -> None:
+    text = plan_to_gcode(plan_file(PROBLEMS / "siemens" / "ex02_square_g450.mpf", OPTS))
+    assert "X0 Y0 Z0" not in text and "start of path" not in text
+    motions = [_code(ln) for ln in _body(text) if re.search(r" G[0-3] ", ln)]
+    assert motions[0] == "N60 G0 X-20 Y-20 Z0"  # N10 … G0 X-20 Y-20 Z0, as programmed
+
+
+def test_an_axis_the_program_has_not_moved_is_not_written() -> None:
+    source = "N10 T1 D1 S1000 M3\nN20 G0 Z50\nN30 G0 X10\nN40 G1 Z-1 F300\nN50 X20\nN60 M30\n"
+    text = plan_to_gcode(_planned(source, "p.mpf"))
+    motions = [re.sub(r"^N\d+ ", "", _code(ln)) for ln in _body(text) if re.search(r" G[0-3] ", ln)]
+    # Y is never programmed: never written (the machine keeps its Y)
+    assert motions == ["G0 Z50", "G0 X10", "G1 Z-1 F300", "G1 X20"]
+
+
+# ------------------------------------------------------------------------------ 3. alarm, omitted blocks
+def test_a_program_stopped_by_an_alarm_ends_with_a_comment_naming_it() -> None:
+    result = plan_file(PROBLEMS / "heidenhain" / "h02_pocket_r16_too_large.h", OPTS)
+    assert not result.ok
+    text = plan_to_gcode(result)
+    lines = text.splitlines()
+    assert not any(re.search(r"\bM(30|2|02)\b", _code(ln)) for ln in lines)
+    alarm = result.errors[0]
+    assert alarm.code in lines[-2] and alarm.message in lines[-2]
+    assert f"h02_pocket_r16_too_large.h:{alarm.span.line}:" in lines[-2]
+
+
+def test_omitted_blocks_are_named() -> None:
+    result = plan_file(PROBLEMS / "siemens" / "ex06_bottleneck_cdon.mpf", OPTS)
+    omitted = [d for d in result.diagnostics if d.code == "10763"]
+    assert omitted
+    text = plan_to_gcode(result)
+    for d in omitted:
+        note = next(ln for ln in text.splitlines() if "omitted block" in ln and f"{d.span.block} L{d.span.line}" in ln)
+        assert "10763" in note
+
+
+def test_transitions_name_their_source_block() -> None:
+    result = plan_file(PROBLEMS / "corners" / "corner_30deg.mpf", PlanOptions(timing=False, corners="arc"))
+    assert result.extra["corners"]["blended"] > 0
+    text = plan_to_gcode(result)
+    corners = [ln for ln in text.splitlines() if re.search(r"; N\d+ L\d+ corner$", ln)]
+    assert len(corners) >= result.extra["corners"]["blended"]
+
+
+# ------------------------------------------------------------------------------ 4. units
+@pytest.mark.parametrize(
+    ("source", "file", "unit_word", "feed"),
+    [
+        (CAM_RS274_INCH, "p.ngc", "G20", "F20.0"),
+        (CAM_SIEMENS.replace("N5 G54 G17 G90", "N5 G54 G17 G90 G700"), "p.mpf", "G700", "F500"),
+        (CAM_SIEMENS.replace("N5 G54 G17 G90", "N5 G54 G17 G90 G70"), "p.mpf", "G70", "F500"),
+    ],
+)
+def test_an_inch_program_is_written_in_inch(source, file, unit_word, feed) -> None:
+    result = _planned(source, file)
+    text = plan_to_gcode(result)
+    assert _body(text)[0].split()[:2] in ([unit_word, "G90"], ["N10", unit_word])
+    assert feed in text  # G70 keeps feeds in mm/min, G700 and G20 have them in inch/min
+    again = _planned(text, "again" + Path(file).suffix, corners="exact")
+    assert _hausdorff(result.toolpath, again.toolpath) < 0.5e-5 * 25.4 * math.sqrt(3)
+
+
+# ------------------------------------------------------------------------------ 5. traceability
+def test_every_motion_names_its_source_line_or_continues_a_named_one() -> None:
+    result = _planned(CAM_SIEMENS, "cam.mpf")
+    text = plan_to_gcode(result)
+    source = CAM_SIEMENS.splitlines()
+    named = 0
+    for ln in _body(text):
+        m = re.search(r"; (N\d+ )?L(\d+)", ln)
+        if re.search(r" G[0-3] ", ln):
+            assert m is not None or named  # a piece of a segment follows its named first piece
+        if m:
+            named += 1
+            block, line = m.group(1), int(m.group(2))
+            if block:
+                assert source[line - 1].startswith(block.strip())
+    assert named
+
+
+def test_the_command_line_writes_the_safe_program(tmp_path: Path) -> None:
+    from trcopt.cli import main
+
+    program = tmp_path / "cam.mpf"
+    program.write_text(CAM_SIEMENS)
+    out = tmp_path / "out.mpf"
+    main(["plan", str(program), "--no-timing", "-q", "--gcode", str(out)])
+    text = out.read_text()
+    assert "N60 T3 M6 ; N10 L4" in text and "D1 S8000 M3 M8" in text and "X0 Y0 Z0" not in text

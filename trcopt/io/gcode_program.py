@@ -1,0 +1,272 @@
+"""Tool-centre G-code of a whole plan: the path of :mod:`trcopt.io.gcode` with the program's
+non-motion words, its units, its alarm and its omitted blocks.
+
+:func:`plan_to_gcode` writes, in program order,
+
+* every non-motion word the reader kept in a move's ``actions`` (tool call and change ``T``/``M6``,
+  ``D``, spindle ``S``/``M3``/``M4``/``M5``, coolant ``M7``/``M8``/``M9``, work offsets
+  ``G54``–``G59``/``G500``, ``MSG``, ``M0``/``M1``, dwell ``G4``, tool data) as a block of its
+  own **before** the first motion of its source block — where the controller outputs them at the
+  block start — except the words that act at the **block end** (``M0``, ``M1``, ``M5``, ``M9``),
+  written after the last motion of the block; a block without motion (or whose motion was
+  omitted) keeps its place between the motions around it. ``F`` is written with the motions; the
+  program's path-control words (``G64``, ``G642``, ``CTOL=``, ``CYCLE832`` …) become a comment, as
+  their rounding is already in the tool-centre path; the program end (``M30``/``M2``/``RET``) is
+  the flavour's end word. Words another flavour cannot read (``$TC_DP…`` in LinuxCNC output) are
+  kept as comments; ``MSG("…")`` becomes LinuxCNC's ``(MSG, …)`` and a dwell's time its ``P``.
+* no motion the program did not command: the first motion starts where the program's first
+  motion starts, and an axis the program has not moved or named yet is not written;
+* the program's units: a program in inch (SINUMERIK ``G70``/``G700``, RS274 ``G20``, Heidenhain
+  ``BEGIN PGM … INCH``, in force at its first motion) is written in inch with one more decimal;
+* a comment naming each omitted block (alarm 10763) and, for a program stopped by an alarm, a
+  last comment naming it (code, message, file:line) instead of the end word.
+
+Every motion block names its source (``; N60 L6 corner``, ``(N60 L6 corner)``), the pieces of one
+segment on the first block, a word block its source block and line.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from trcopt.codes import Code, family
+from trcopt.errors import Diagnostic, Severity
+from trcopt.geometry.poly import Poly
+from trcopt.geometry.primitives import Arc, Line
+from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, open_writer, write_segment
+from trcopt.path import Segment
+
+__all__ = ["plan_to_gcode", "program_units", "kept_words"]
+
+INCH_MM = 25.4
+_END = {"M2", "M02", "M30", "M17", "RET"}
+_AT_BLOCK_END = {"M0", "M00", "M1", "M01", "M5", "M05", "M9", "M09"}
+_PATH_CONTROL = re.compile(r"^(G9|G6[01](\.1)?|G60[1-3]|G64[1-5]?|ADIS=|ADISPOS=|CTOL=|CYCLE832)", re.I)
+_PORTABLE = re.compile(r"^(T\d+|M\d+|S\d+(\.\d*)?|G5[4-9])$", re.I)
+_FEED = re.compile(r"^F[-+.\d]", re.I)
+_DWELL = re.compile(r"^G0*4$", re.I)
+_MSG = re.compile(r'^MSG\s*\(\s*"(.*)"\s*\)$', re.I)
+_COMMENTS = re.compile(r"\([^)]*\)|;.*$|\"[^\"]*\"")
+_AXIS = re.compile(r"(?<![A-Z0-9_$\[.])([XYZ])(?=\s*[-+=.\d(])", re.I)
+_UNIT_WORDS = {
+    "siemens": re.compile(r"(?<![A-Z0-9_.])G0*(70|700|71|710)(?![\d.])", re.I),
+    "rs274": re.compile(r"(?<![A-Z0-9_.])G\s*0*(20|21)(?![\d.])", re.I),
+}
+_INCH_PREAMBLE = {"G71": "G70", "G21": "G20"}
+_FLAVOR_DIALECT = {"linuxcnc": "rs274"}
+
+
+def program_units(source: str, dialect: str, first_motion_line: int | None) -> tuple[bool, bool]:
+    """``(inch, feed_inch)``: whether the program's lengths are in inch at its first motion and
+    whether its feeds are too (SINUMERIK ``G70`` keeps feeds in mm/min, ``G700`` does not)."""
+    lines = source.splitlines()[: first_motion_line or None]
+    if dialect == "heidenhain":
+        inch = any(re.match(r"\s*\d*\s*BEGIN\s+PGM\s+\S+\s+INCH\b", ln, re.I) for ln in lines)
+        return inch, inch
+    pattern = _UNIT_WORDS.get(dialect)
+    last = None
+    for ln in lines if pattern is not None else ():
+        for m in pattern.finditer(_COMMENTS.sub(" ", ln)):
+            last = m.group(1)
+    if last in ("70", "700", "20"):
+        return True, last != "70"
+    return False, False
+
+
+def _scaled(seg: Segment, k: float, feed_k: float) -> Segment:
+    """The segment with lengths times ``k`` and the feed times ``feed_k``."""
+    g = seg.geometry
+
+    def p(q: tuple[float, float, float]) -> tuple[float, float, float]:
+        return (q[0] * k, q[1] * k, q[2] * k)
+
+    if isinstance(g, Line):
+        geom: Line | Arc | Poly = Line(p(g.start), p(g.end))
+    elif isinstance(g, Arc):
+        geom = Arc((g.center[0] * k, g.center[1] * k), g.radius * k, g.a0, g.sweep, g.w0 * k, g.w1 * k)
+    else:
+        curv = None if g.curvatures is None else tuple((c[0] / k, c[1] / k, c[2] / k) for c in g.curvatures)
+        geom = replace(g, points=tuple(p(q) for q in g.points), cum=tuple(c * k for c in g.cum), curvatures=curv)
+    feed = None if seg.feed_mm_s is None else seg.feed_mm_s * feed_k
+    return replace(seg, geometry=geom, feed_mm_s=feed)
+
+
+@dataclass
+class _Group:
+    """The non-motion words and notes of one source line."""
+
+    line: int
+    block: str | None
+    before: list[str] = field(default_factory=list)
+    after: list[str] = field(default_factory=list)
+    comments: list[str] = field(default_factory=list)
+
+    @property
+    def source(self) -> str:
+        return " ".join(x for x in (self.block, f"L{self.line}") if x)
+
+
+def kept_words(actions: tuple[str, ...] | list[str]) -> list[str]:
+    """The words of a move's ``actions`` the writer keeps as words, in order (the feed and the
+    path-control words and the program end are written otherwise; a dwell keeps its time)."""
+    words: list[str] = []
+    dwell = any(_DWELL.match(a) for a in actions)
+    for a in actions:
+        text = a.strip()
+        if not text or text.endswith(":") or text.upper() in _END or _PATH_CONTROL.match(text):
+            continue
+        if _FEED.match(text) and not dwell:
+            continue
+        words.append(text)
+    return words
+
+
+def _translate(words: list[str], same: bool, flavor: GcodeFlavor, source_line: str) -> tuple[list[str], list[str]]:
+    """``(words, comments)`` for the output flavour: everything as is in the program's own
+    dialect; elsewhere the portable words, the dwell and the message, the rest as comments."""
+    if any(_DWELL.match(w) for w in words):
+        time = next((w[1:] for w in words if w[:1].upper() in "FP" and w[1:2] in "0123456789.+"), None)
+        if time is None:
+            m = re.search(r"(?<![A-Z])P\s*([\d.]+)", _COMMENTS.sub(" ", source_line), re.I)
+            time = m.group(1) if m else None
+        words = [w for w in words if not (w[:1].upper() in "FP" and w[1:2] in "0123456789.+")]
+        letter = "P" if flavor.paren_comments else "F"
+        words = [f"G4 {letter}{time}" if _DWELL.match(w) and time is not None else w for w in words]
+    if same:
+        return words, []
+    kept: list[str] = []
+    comments: list[str] = []
+    for w in words:
+        msg = _MSG.match(w)
+        if msg and flavor.paren_comments:
+            comments.append(f"MSG, {msg.group(1)}")
+        elif _PORTABLE.match(w) or w.upper().startswith("G4 "):
+            kept.append(w)
+        else:
+            comments.append(f"not written in {flavor.name} G-code: {w}")
+    return kept, comments
+
+
+def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str]) -> list[_Group]:
+    by_line: dict[int, _Group] = {}
+
+    def group(line: int, block: str | None) -> _Group:
+        if line not in by_line:
+            by_line[line] = _Group(line, block)
+        return by_line[line]
+
+    # the moves' actions and the words of blocks a reader keeps without a move (Heidenhain TOOL CALL)
+    blocks = [(m.span, m.actions) for m in result.nc.moves]
+    blocks += list(result.nc.extras.get("words", ()))  # type: ignore[call-overload]
+    for span, actions in sorted(blocks, key=lambda b: b[0].line):
+        words = kept_words(actions)
+        dropped = [a for a in actions if _PATH_CONTROL.match(a.strip())]
+        if not words and not dropped:
+            continue
+        g = group(span.line, span.block)
+        source_line = lines[span.line - 1] if 0 < span.line <= len(lines) else ""
+        kept, comments = _translate(words, same, flavor, source_line)
+        g.before += [w for w in kept if w.upper() not in _AT_BLOCK_END]
+        g.after += [w for w in kept if w.upper() in _AT_BLOCK_END]
+        g.comments += comments
+        if dropped:
+            g.comments.append("path control " + " ".join(dropped) + ": its rounding is in the tool-centre path")
+    for d in result.diagnostics:
+        if d.code == Code.ALARM_10763 and d.span.line:
+            group(d.span.line, d.span.block).comments.append(f"omitted block, {d.format()}")
+    return sorted(by_line.values(), key=lambda g: g.line)
+
+
+def _stop(result: Any) -> Diagnostic | None:
+    """The alarm that stopped the program (not a failed verification under strict)."""
+    return next(
+        (d for d in result.diagnostics if d.severity is Severity.ERROR and family(d.code) != "verification"), None
+    )
+
+
+def plan_to_gcode(
+    result: Any,
+    *,
+    flavor: GcodeFlavor,
+    dialect: str | None = None,
+    decimals: int = 4,
+    arc_tolerance_mm: float = 0.002,
+    fit_tolerance_mm: float = 0.001,
+    poly_output: str = "arcs",
+    program_name: str | None = None,
+) -> str:
+    """Safe tool-centre G-code of a :class:`trcopt.pipeline.PlanResult` (see the module docstring).
+
+    ``flavor``: the output controller's (``trcopt.controllers.get(name).gcode``); ``dialect``: the
+    dialect that controller reads (``controllers.get(name).dialect``; by default the flavour's
+    name, ``rs274`` for ``linuxcnc``) — the program's words are written as they are when it is the
+    program's, else only the portable ones; ``decimals``: decimals of coordinates in mm (one more
+    in inch); the tolerances are in mm whatever the output unit; the other parameters as
+    :func:`trcopt.io.gcode.toolpath_to_gcode`'s.
+    """
+    same = (dialect or _FLAVOR_DIALECT.get(flavor.name, flavor.name)) == result.dialect
+    lines = result.source.splitlines()
+    segs = list(result.toolpath)
+    inch, feed_inch = program_units(result.source, result.dialect, segs[0].span.line if segs else None)
+    preamble = list(flavor.preamble)
+    if inch:
+        k = 1.0 / INCH_MM
+        segs = [_scaled(s, k, k if feed_inch else 1.0) for s in segs]
+        siemens_word = "G700" if feed_inch else "G70"  # G70: feeds stay in mm/min
+        preamble = [
+            p if p not in _INCH_PREAMBLE else siemens_word if flavor.name == "siemens" else _INCH_PREAMBLE[p]
+            for p in preamble
+        ]
+        decimals = min(MAX_DECIMALS, int(decimals) + 1)
+        arc_tolerance_mm, fit_tolerance_mm = arc_tolerance_mm * k, fit_tolerance_mm * k
+    w = open_writer(
+        segs,
+        flavor=flavor,
+        decimals=decimals,
+        arc_tolerance_mm=arc_tolerance_mm,
+        program_name=program_name or result.program,
+        fit_tolerance_mm=fit_tolerance_mm,
+        poly_output=poly_output,
+        preamble=preamble,
+        header=[f"units: {'inch' if inch else 'mm'}, the program's words in order, each block names its source"],
+    )
+    pending = _groups(result, flavor, same, lines)
+    current: _Group | None = None  # the group of the source line whose motions are being written
+    line = 0
+
+    def flush(g: _Group, before: bool, after: bool) -> None:
+        for text in g.comments if before else ():
+            # a LinuxCNC message is a comment starting with "MSG,"
+            w.lines.append(w.comment(text if text.startswith("MSG,") else f"{g.source} {text}"))
+        words = (g.before if before else []) + (g.after if after else [])
+        if words:
+            w.emit(words, g.source)
+
+    for seg in segs:
+        if seg.span.line > line:
+            line = seg.span.line
+            if current is not None:
+                flush(current, False, True)
+                current = None
+            while pending and pending[0].line < line:
+                flush(pending.pop(0), True, True)
+            if pending and pending[0].line == line:
+                current = pending.pop(0)
+                flush(current, True, False)
+            text = _COMMENTS.sub(" ", lines[line - 1]) if 0 < line <= len(lines) else ""
+            w.programmed = frozenset("XYZ".index(m.group(1).upper()) for m in _AXIS.finditer(text))
+        write_segment(w, seg)
+    w.programmed = frozenset()
+    if current is not None:
+        flush(current, False, True)
+    for g in pending:
+        flush(g, True, True)
+    alarm = _stop(result)
+    if alarm is None:
+        w.emit([flavor.end])
+    else:
+        w.lines.append(w.comment(f"stopped by {alarm.format()}"))
+        w.lines.append(w.comment(f"no {flavor.end}: the program did not end"))
+    return "\n".join(w.lines) + "\n"
