@@ -38,10 +38,17 @@ def _close(actual, expected, tol):
     return len(expected) <= len(actual) and all(abs(a - e) <= tol for a, e in zip(actual, expected, strict=False))
 
 
+def _options(stem: Path) -> PlanOptions:
+    """The plan options of a golden problem: its expected file's ``options`` (e.g. a Heidenhain
+    APPR radius reading) over the defaults, without timing."""
+    expected = json.loads(stem.with_suffix(".expected.json").read_text())
+    return PlanOptions(timing=False, **expected.get("options", {}))
+
+
 @pytest.mark.parametrize("stem", CASES, ids=IDS)
 def test_golden_problem(stem: Path) -> None:
     expected = json.loads(stem.with_suffix(".expected.json").read_text())
-    result = plan_file(_program(stem), PlanOptions(timing=False))
+    result = plan_file(_program(stem), _options(stem))
     tol = expected["tolerance_mm"]
     got = [(s.kind, s.span.block, s.start_xyz, s.end_xyz, s.center_xyz) for s in result.toolpath]
     assert len(got) == len(expected["toolpath"]), "\n".join(map(str, got))
@@ -65,7 +72,7 @@ def test_golden_problem(stem: Path) -> None:
 
 @pytest.mark.parametrize("stem", CASES, ids=IDS)
 def test_golden_problem_does_not_gouge(stem: Path) -> None:
-    result = plan_file(_program(stem), PlanOptions(timing=False))
+    result = plan_file(_program(stem), _options(stem))
     found = gouges(result.programmed, result.toolpath)
     if any(d.code == "TRC-CONTOUR-VIOLATION" for d in result.diagnostics):
         # CDOF runs the reversed offset as the controller does: the independent check must see it

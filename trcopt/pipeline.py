@@ -15,7 +15,7 @@ from trcopt.codes import Code, family
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
-from trcopt.modes import CornerObjective, ToleranceKind, ToolUnit, parse_enum
+from trcopt.modes import ApprRadius, CornerObjective, ToleranceKind, ToolUnit, parse_enum
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
@@ -58,6 +58,9 @@ class PlanOptions:
     tool_table, tool_unit:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
         heidenhain); by default the readers look beside the program.
+    appr_radius:
+        Heidenhain APPR/DEP CT/LCT: ``R`` is the radius of the tool-centre arc (``centre``, the
+        default) or of the contour arc (``contour``); spec heidenhain_trc.md R9.
     corners, tolerance_mm, tolerance_kind:
         The corner strategy by its registry name (:mod:`trcopt.optimize.corners.strategies`):
         ``program`` (the default: what the program's path-control mode makes the controller do —
@@ -90,6 +93,7 @@ class PlanOptions:
     strict: bool = False
     tool_table: str | None = None
     tool_unit: ToolUnit = ToolUnit.INCH
+    appr_radius: ApprRadius = ApprRadius.CENTRE
     corners: str = corner_strategies.PROGRAM
     tolerance_mm: float = 0.01
     tolerance_kind: ToleranceKind | None = None
@@ -99,6 +103,7 @@ class PlanOptions:
     def __post_init__(self) -> None:
         # strings are accepted here, at the boundary, and become modes
         object.__setattr__(self, "tool_unit", parse_enum(ToolUnit, self.tool_unit, "tool unit"))
+        object.__setattr__(self, "appr_radius", parse_enum(ApprRadius, self.appr_radius, "APPR/DEP radius reading"))
         if self.tolerance_kind is not None:
             try:
                 kind = parse_enum(ToleranceKind, self.tolerance_kind, "--tolerance-kind")
@@ -241,6 +246,7 @@ def plan(
         max_disc=settings.cutcom_max_disc,
         tool_table=opts.tool_table,
         tool_unit=opts.tool_unit,
+        appr_radius=opts.appr_radius.value,
     )
     diagnostics = list(nc.diagnostics)
     tol = settings.tolerances.coincidence_mm

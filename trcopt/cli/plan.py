@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
 from trcopt.errors import Severity, TimingError, TrcoptError
-from trcopt.modes import ToolUnit, parse_enum
+from trcopt.modes import ApprRadius, ToolUnit, parse_enum
 from trcopt.optimize.corners import strategies as corner_strategies
 
 if TYPE_CHECKING:
@@ -40,6 +40,10 @@ def _add_reading_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--tool-unit", default=ToolUnit.INCH.value, choices=[u.value for u in ToolUnit],
         help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
+    )
+    p.add_argument(
+        "--appr-radius", default=ApprRadius.CENTRE.value, choices=[a.value for a in ApprRadius],
+        help="Heidenhain APPR/DEP CT/LCT radius: of the tool-centre arc (default) or of the contour arc",
     )
     p.add_argument(
         "--strict", action="store_true",
@@ -107,6 +111,7 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         strict=args.strict,
         tool_table=getattr(args, "tool_table", None),
         tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.INCH), "tool unit"),
+        appr_radius=parse_enum(ApprRadius, getattr(args, "appr_radius", ApprRadius.CENTRE), "APPR/DEP radius"),
         corners=getattr(args, "corners", corner_strategies.EXACT),
         tolerance_mm=getattr(args, "tolerance", 0.01),
         tolerance_kind=getattr(args, "tolerance_kind", None),

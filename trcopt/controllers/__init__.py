@@ -96,6 +96,7 @@ def read_program(
     max_disc: int = 50,
     tool_table: str | os.PathLike[str] | None = None,
     tool_unit: str | ToolUnit = ToolUnit.INCH,
+    appr_radius: str = "centre",
 ) -> NcProgram:
     """Read a part program into canonical moves with its controller's reader.
 
@@ -124,6 +125,8 @@ def read_program(
         default — LinuxCNC's default machine unit; Heidenhain TOML). SINUMERIK programs carry their
         tool data as ``$TC_DP`` assignments. An unreadable or invalid table raises
         :class:`~trcopt.errors.ConfigError`.
+    appr_radius:
+        Heidenhain APPR/DEP CT/LCT radius: ``"centre"`` (tool-centre arc, default) or ``"contour"``.
     """
     if isinstance(source, os.PathLike):
         path = os.fspath(source)
@@ -141,6 +144,7 @@ def read_program(
         tools=tools,
         tool_table=tool_table,
         tool_unit=parse_enum(ToolUnit, tool_unit, "tool unit"),
+        appr_radius=appr_radius,
     )
     program = controller.read(text, options)
     # every number a move carries is finite and within trcopt.nc.limits before any stage uses it

@@ -70,6 +70,9 @@ class ReadOptions:
         the program where it has a table format, or uses the program's tool data).
     tool_unit:
         Length unit of ``tool_table`` where the format does not state it (LinuxCNC ``.tbl``).
+    appr_radius:
+        Heidenhain APPR/DEP CT/LCT radius reading: ``"centre"`` (the tool-centre arc's radius, the
+        default) or ``"contour"`` (spec heidenhain_trc.md R9).
     """
 
     file: str = "<program>"
@@ -78,6 +81,7 @@ class ReadOptions:
     tools: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None = None
     tool_table: str | os.PathLike[str] | None = None
     tool_unit: ToolUnit = ToolUnit.INCH
+    appr_radius: str = "centre"
 
 
 class ModalState:

@@ -109,7 +109,7 @@ def test_profile_data():
     assert controllers.get("heidenhain").compensate.__module__ == "trcopt.controllers.heidenhain"
     s = HEIDENHAIN.engine_settings()
     assert s.cutcom_curve_insert_limit_deg == 0.0 and s.cutcom_corner_limit_deg == 180.0 and s.strict is True
-    assert HeidenhainOptions().appr_radius is ApprRadius.CONTOUR
+    assert HeidenhainOptions().appr_radius is ApprRadius.CENTRE
     assert HeidenhainOptions(appr_radius="centre").appr_radius is ApprRadius.CENTRE  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="valid: contour, centre"):
         HeidenhainOptions(appr_radius="tool")  # type: ignore[arg-type]

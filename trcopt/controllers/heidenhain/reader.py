@@ -353,5 +353,6 @@ def read_heidenhain(
 def read_klartext(text: str, options: ReadOptions) -> NcProgram:
     """The controller's reader: ``options.tool_table`` is a TOML tool table (default: the one
     beside the program, see :func:`~trcopt.controllers.heidenhain.tooltable.find_tool_table`)."""
-    hh = None if options.tool_table is None else HeidenhainOptions(tools=load_tool_table(options.tool_table))
+    tools = {} if options.tool_table is None else load_tool_table(options.tool_table)
+    hh = HeidenhainOptions(appr_radius=options.appr_radius, tools=tools)  # type: ignore[arg-type]
     return read_heidenhain(text, file=options.file, tolerances=options.tolerances, options=hh)

@@ -81,7 +81,7 @@ class HeidenhainOptions:
     """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9; a string
     is accepted and checked); ``tools`` preset tool table."""
 
-    appr_radius: ApprRadius = ApprRadius.CONTOUR
+    appr_radius: ApprRadius = ApprRadius.CENTRE
     tools: dict[int, HhTool] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
