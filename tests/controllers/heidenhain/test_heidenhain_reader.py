@@ -290,3 +290,16 @@ def test_appr_tool_axis_coordinate_moves_plane_first():
     )
     zs = [(m.start[2], m.end[2]) for m in p.moves[1:4]]
     assert zs == [(10, 10), (10, -5), (-5, -5)]
+
+
+def test_f_max_written_with_a_space_is_rapid():
+    """The TNC 426/430 manual's example programs write ``F MAX`` (and ``F AUTO``) with a space."""
+    block = lex_block("3 L X+0 Y+0 Z+5 R0 F MAX", 4)
+    assert [w.address for w in block.words][-1] == "FMAX" and block.words[-1].column == 20
+    text = "0 BEGIN PGM T MM\n1 TOOL DEF 1 L+0 R5\n2 TOOL CALL 1 Z S1000\n3 L X+0 Y+0 Z+5 R0 F MAX\n"
+    text += "4 L Z-5 F100\n5 L X+10 F MAX\n6 END PGM T MM\n"
+    prog = read_heidenhain(text, "t.h")
+    assert not [d for d in prog.diagnostics if d.severity.value == "error"]
+    assert [(m.kind, m.span.block) for m in prog.moves] == [
+        (MoveKind.RAPID, "3"), (MoveKind.LINE, "4"), (MoveKind.RAPID, "5")
+    ]

@@ -86,8 +86,15 @@ def lex_block(text: str, line: int) -> Block:
     if statement in _TWO_WORD and toks and toks[0][0].upper() in _TWO_WORD[statement]:
         statement += " " + toks.pop(0)[0].upper()
     words = []
+    merged = []
     for tok, col in toks:
-        up = tok.upper()
+        # "F MAX" / "F AUTO", as the TNC 426/430 manual's example programs write it, is FMAX / FAUTO
+        if merged and merged[-1][0].upper() == "F" and tok.upper() in ("MAX", "AUTO"):
+            merged[-1] = (merged[-1][0] + " " + tok, merged[-1][1])
+            continue
+        merged.append((tok, col))
+    for tok, col in merged:
+        up = tok.upper().replace(" ", "")
         if up in _FLAGS:
             words.append(Word(up, None, tok, col))
             continue
