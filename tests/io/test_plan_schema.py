@@ -54,10 +54,10 @@ def test_suite_is_found() -> None:
 
 @pytest.mark.parametrize("stem", CASES, ids=IDS)
 def test_golden_problem_plan_json_validates(stem: Path) -> None:
-    result = plan_file(_program(stem))
+    expected = json.loads(stem.with_suffix(".expected.json").read_text())
+    result = plan_file(_program(stem), PlanOptions(**expected.get("options", {})))
     doc = result.to_json()
     _valid(doc)
-    expected = json.loads(stem.with_suffix(".expected.json").read_text())
     assert doc["ok"] is expected["ok"]
     if doc["toolpath"]:
         assert doc["timing"] is not None

@@ -41,7 +41,7 @@ def test_golden_residuals_are_at_rounding_level(expected: Path) -> None:
     name = expected.name.split(".")[0]
     if not data["ok"] or name in GOUGING:
         pytest.skip("alarm or documented gouge")
-    r = plan_file(_program(expected), PlanOptions(timing=False))
+    r = plan_file(_program(expected), PlanOptions(timing=False, **data.get("options", {})))
     rep = verify_plan(r.programmed, r.toolpath, r.nc.moves, TrcSettings())
     for fam in MODEL_FAMILIES:
         assert rep.max_residual(fam) <= 1e-9, (fam, rep.summary_line())
