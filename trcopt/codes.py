@@ -55,7 +55,9 @@ class Code(enum.StrEnum):
     ALARM_10758 = "10758"
     ALARM_10762 = "10762"
     ALARM_10763 = "10763"
+    ALARM_12550 = "12550"
     ALARM_14153 = "14153"
+    ALARM_14500 = "14500"
     # --- reading programs ------------------------------------------------------------------------
     NC_SYNTAX = "NC-SYNTAX"
     NC_UNSUPPORTED = "NC-UNSUPPORTED"
@@ -71,9 +73,12 @@ class Code(enum.StrEnum):
     NC_SAR_PARAM = "NC-SAR-PARAM"
     NC_TOOL_TYPE = "NC-TOOL-TYPE"
     NC_INTERNAL = "NC-INTERNAL"
+    NC_LOOP_LIMIT = "NC-LOOP-LIMIT"
     NC_RANGE = "NC-RANGE"
     NC_NOT_TEXT = "NC-NOT-TEXT"
     NC_TOOL_RADIUS = "NC-TOOL-RADIUS"
+    NC_EXPRESSION = "NC-EXPRESSION"
+    NC_PARAM_UNSET = "NC-PARAM-UNSET"
     # --- compensation engine ---------------------------------------------------------------------
     TRC_CONTOUR_VIOLATION = "TRC-CONTOUR-VIOLATION"
     TRC_SIDE_CHANGE = "TRC-SIDE-CHANGE"
@@ -125,6 +130,9 @@ class Code(enum.StrEnum):
     LCNC_YZ_PLANE = "LCNC-YZ-PLANE"
     LCNC_ARC_AFTER_G40 = "LCNC-ARC-AFTER-G40"
     LCNC_CONTROL_MODE = "LCNC-CONTROL-MODE"
+    LCNC_EXPRESSION = "LCNC-EXPRESSION"
+    LCNC_PARAMETER = "LCNC-PARAMETER"
+    LCNC_OWORD = "LCNC-OWORD"
     # --- toolholder ------------------------------------------------------------------------------
     TH_VALUE = "TH-VALUE"
     TH_CHAIN_OPEN = "TH-CHAIN-OPEN"
@@ -187,7 +195,9 @@ MEANING: dict[Code, str] = {
     Code.ALARM_10758: "curvature radius too small for the (variable) compensation value",
     Code.ALARM_10762: "too many blocks without plane motion in a row (MD20250)",
     Code.ALARM_10763: "warning: a block was omitted by bottleneck detection (CDON); the program continues",
+    Code.ALARM_12550: "name not defined: a variable used without (or before) its DEF, or an unknown function",
     Code.ALARM_14153: "toolholder: kinematic type other than T, P or M",
+    Code.ALARM_14500: "DEF after the first executable block (definitions belong in the program header)",
     Code.NC_SYNTAX: "the program text cannot be read (bad word, number, bracket or comment)",
     Code.NC_UNSUPPORTED: "a language feature trcopt does not model (named in the message); the plan stops",
     Code.NC_UNSUPPORTED_WORD: "a word trcopt does not model; it is reported, never silently dropped",
@@ -203,10 +213,14 @@ MEANING: dict[Code, str] = {
     Code.NC_SAR_PARAM: "a SAR parameter (DISR, DISCL, DISRP, FAD) has an invalid value",
     Code.NC_TOOL_TYPE: "the tool type is not a milling tool; the compensation side check does not apply",
     Code.NC_INTERNAL: "an internal error while reading a block (a bug: please report the program)",
+    Code.NC_LOOP_LIMIT: "a program loop jumped back more often than the stated iteration limit: taken as endless",
     Code.NC_RANGE: "a number out of range: not finite, or a coordinate, radius or feed beyond the bounds of "
     "trcopt.nc.limits (|coordinate| ≤ 1e5 mm, feed ≤ 1e8 mm/min, ≤ 1e4 turns)",
     Code.NC_NOT_TEXT: "the program file is not a text file (NUL bytes or undecodable binary content)",
     Code.NC_TOOL_RADIUS: "a negative tool radius ($TC_DP6, Heidenhain TOOL DEF R or tool-table R)",
+    Code.NC_EXPRESSION: "an expression cannot be evaluated: division by zero, a function argument outside its "
+    "domain (SQRT of a negative number, ASIN(2), TAN(90)), a result that is not finite",
+    Code.NC_PARAM_UNSET: "an R-parameter is read before the program sets it (its value on the machine is unknown)",
     Code.TRC_CONTOUR_VIOLATION: "warning: a CDOF offset runs against its programmed element (possible contour "
     "violation); --strict makes it alarm 10751",
     Code.TRC_SIDE_CHANGE: "compensation side changed (G41↔G42) without deselecting first",
@@ -258,6 +272,11 @@ MEANING: dict[Code, str] = {
     Code.LCNC_YZ_PLANE: "compensation in the YZ plane (G19)",
     Code.LCNC_ARC_AFTER_G40: "the move right after G40 is an arc",
     Code.LCNC_CONTROL_MODE: "G61/G61.1/G64 while cutter radius compensation is on",
+    Code.LCNC_EXPRESSION: "an expression LinuxCNC cannot evaluate (division by zero, a function argument out of "
+    "range, not a number)",
+    Code.LCNC_PARAMETER: "a parameter LinuxCNC cannot read: a named parameter never set, a number out of range",
+    Code.LCNC_OWORD: "O-word control flow: an unknown or unclosed subroutine, a label without its if/while/do, "
+    "a duplicate label, too many call levels",
     Code.TH_VALUE: "a $TC_CARR value is invalid",
     Code.TH_CHAIN_OPEN: "warning: the toolholder's kinematic chain does not close",
     Code.TH_IGNORED_L1: "warning: l1 is ignored for a type P toolholder",

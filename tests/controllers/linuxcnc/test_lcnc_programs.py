@@ -19,15 +19,25 @@ needs_peer = pytest.mark.skipif(
     not PEER.is_dir(), reason=f"LinuxCNC peer data not found at {PEER.resolve()}"
 )
 
-# programs within the subset; the others use O-words, parameters, expressions or G92
-# (ccomp-mill-g90g91g92, interp-inside-corners, interp-crazy-paths, interp-inverse-time-with-comp,
-# interp-cam-nisley) or lathe tool orientation (ccomp-lathe-comp)
-SUBSET = ["ccomp-mill-line-arc-entry/test.ngc", "ccomp-mill-zchanges/test.ngc"]
+# programs within the subset (crazy-paths: O-word subroutines with arguments and if; cam-nisley,
+# whose inch tool table is not found by name, runs in test_rs274_language); the others use G92
+# (ccomp-mill-g90g91g92), G93 (interp-inverse-time-with-comp) or lathe tool orientation
+# (ccomp-lathe-comp)
+SUBSET = [
+    "ccomp-mill-line-arc-entry/test.ngc",
+    "ccomp-mill-zchanges/test.ngc",
+    "interp-crazy-paths/test.ngc",
+    pytest.param(
+        "interp-inside-corners/test.ngc",
+        marks=pytest.mark.xfail(
+            strict=True,
+            reason="issue 16: read in full now (O-word sub/call, #100); the compensation raises a false "
+            "'Arc move in concave corner' at an arc-arc corner (line 18)",
+        ),
+    ),
+]
 OUTSIDE_SUBSET = {
     "ccomp-mill-g90g91g92/test.ngc": "NC-UNSUPPORTED",
-    "interp-inside-corners/test.ngc": "NC-UNSUPPORTED",
-    "interp-cam-nisley/cam.ngc": "NC-UNSUPPORTED",
-    "interp-crazy-paths/test.ngc": "NC-UNSUPPORTED",
 }
 
 

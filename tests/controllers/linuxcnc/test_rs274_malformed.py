@@ -11,10 +11,11 @@ from trcopt.pipeline import PlanOptions, plan
 @pytest.mark.parametrize(
     ("line", "code", "column"),
     [
-        ("N20 G1 X5 (unclosed", Code.NC_SYNTAX, 1),
+        ("N20 G1 X5 (unclosed", Code.NC_SYNTAX, 11),
         ("N20 G1 X5 E3", Code.NC_UNSUPPORTED, 11),
-        ("N20 G1 X5 @", Code.NC_SYNTAX, 10),
-        ("n 20 G1 X5 #1=2", Code.NC_UNSUPPORTED, 12),
+        ("N20 G1 X5 @", Code.NC_SYNTAX, 11),
+        ("n 20 G1 X5 A1", Code.NC_UNSUPPORTED, 12),
+        ("N20 G1 X[1/0]", Code.LCNC_EXPRESSION, 9),
     ],
 )
 def test_early_errors_carry_the_block_number(line: str, code: Code, column: int) -> None:

@@ -54,9 +54,8 @@ def test_reader_units_incremental_and_arcs() -> None:
 @pytest.mark.parametrize(
     ("text", "fragment"),
     [
-        ("o100 sub\n", "O-word"),
-        ("#1=2\n", "parameters"),
-        ("G1 X[1+2] F1\n", "expressions"),
+        ("O1000\nM99\n", "Fanuc-style O-word"),
+        ("G1 X#<_x> F1\n", "#<_x>"),
         ("G92 X0\n", "G92"),
         ("G93\n", "G93"),
     ],

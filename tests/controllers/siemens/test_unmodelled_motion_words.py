@@ -29,7 +29,6 @@ def run(line: str):
         ("MYSUB", 5, "subprogram call"),
         ("REPEAT SKIP P=2", 5, "repetition"),
         ("TRAORI", 5, "kinematic transformation"),
-        ("DEF REAL DEPTH", 5, "variable definition"),
     ],
 )
 def test_unmodelled_motion_word_is_a_located_error(line, column, what):

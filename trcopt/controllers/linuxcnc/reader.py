@@ -5,9 +5,11 @@ The supported subset (issue 3): ``( )`` and ``;`` comments, block delete ``/``, 
 or ``R``; ``P`` full turns; a change of the applicate makes a helix), G4, G17 G18 G19, G20 G21,
 G40 G41 G42 (``D`` = tool number in the tool table, none = the tool in the spindle), G41.1 G42.1
 (``D`` = diameter in program units), G43/G49, G54, G61/G61.1/G64, G80, G90 G91, G94; F (units per
-minute), S, T, M0 M1 M3 M4 M5 M6 M7 M8 M9, M2/M30 (end). Anything else — O-word subroutines and
-control flow, ``#`` parameters, ``[ ]`` expressions, G10/G28/G30/G53/G92, G93/G95, other work
-offsets — stops the read with an ``NC-UNSUPPORTED`` error that names it.
+minute), S, T, M0 M1 M3 M4 M5 M6 M7 M8 M9, M2/M30 (end). The language around the words —
+parameters, ``[ ]`` expressions, O-word subroutines and control flow (issue 16) — is LinuxCNC's,
+run by :class:`~trcopt.controllers.linuxcnc.ngc_flow.NgcFlow`; this module executes the blocks it
+yields. Anything else — G10/G28/G30/G53/G92, G93/G95, other work offsets — stops the read with an
+``NC-UNSUPPORTED`` error that names it.
 
 Conventions: the program starts at (0, 0, 0) in G17, G90, G91.1 and mm (until G20); lengths are
 converted to mm here, feeds to mm/s. The tool table is LinuxCNC's ``.tbl``
@@ -18,11 +20,11 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 from trcopt.codes import Code
+from trcopt.controllers.linuxcnc.ngc_flow import FlowError, NgcFlow
 from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, load_tbl
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
@@ -30,13 +32,10 @@ from trcopt.geometry.vec import Vec3
 from trcopt.modes import PathMode, Side, ToleranceKind, ToolUnit
 from trcopt.nc.modal import ReadOptions, arc_centre_from_radius
 from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
-from trcopt.nc.text import program_lines
 
 __all__ = ["Rs274Reader", "read_rs274", "read_ngc"]
 
 INCH = 25.4
-_WORD = re.compile(r"([A-Za-z])\s*([-+]?\s*(?:\d+\.?\d*|\.\d+))")
-_COMMENT = re.compile(r"\([^)]*\)")
 _PLANES = {17.0: Plane.G17, 18.0: Plane.G18, 19.0: Plane.G19}
 _CENTRE_LETTER = "IJK"  # centre word of x, y, z
 _IGNORED_G = {4.0, 43.0, 49.0, 54.0, 80.0, 94.0}
@@ -44,7 +43,6 @@ _CONTROL_G = (61.0, 61.1, 64.0)
 LCNC_BLEND_SHARE = 0.25  # a G64 blend passes at most this share of the shorter move from the corner
 _IGNORED_M = {0, 1, 3, 4, 5, 7, 8, 9}
 _ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
-_BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
 
 
 class _Stop(Exception):
@@ -122,21 +120,22 @@ class Rs274Reader:
         st = _State()
         moves: list[Move] = []
         blocks = 0
-        for lineno, raw in enumerate(program_lines(text), start=1):
-            line = raw.strip()
-            if not line or line.startswith("%"):
-                continue
-            if line.startswith("/"):
-                continue  # block delete on (LinuxCNC's default switch setting skips nothing; we skip)
-            blocks += 1
-            # the block number from the start, so that every error of the line carries it, also
-            # one raised before its words are read (an unclosed comment, an unreadable word)
-            number = _BLOCK_NUMBER.match(line)
-            span = SourceSpan(self.file, lineno, 1, None if number is None else f"N{int(number.group(1))}")
+        steps = NgcFlow(self.file, text).blocks()
+        while True:
             try:
-                ended = self._block(line, span, st, moves)
+                step = next(steps, None)
+            except FlowError as err:
+                span = SourceSpan(err.file, err.line, err.column, err.block)
+                self.diags.append(Diagnostic(Severity.ERROR, err.code, err.message, span))
+                break
+            if step is None:
+                break
+            blocks += 1
+            span = SourceSpan(step.file, step.line, 1, None if step.number is None else f"N{step.number}")
+            try:
+                ended = self._block(step.block.words, span, st, moves)
             except _Stop as stop:
-                span = SourceSpan(self.file, lineno, stop.column, span.block)
+                span = SourceSpan(span.file, span.line, stop.column, span.block)
                 self.diags.append(Diagnostic(Severity.ERROR, stop.code, stop.message, span))
                 break
             except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
@@ -145,51 +144,13 @@ class Rs274Reader:
                 break
             if ended:
                 break
+        steps.close()
         return NcProgram(self.file, "rs274", tuple(moves), tuple(self.diags), blocks)
 
-    def _words(self, line: str) -> list[tuple[str, float, int]]:
-        body = line.split(";", 1)[0]
-        if "(" in body and body.count("(") != body.count(")"):
-            raise _Stop(Code.NC_SYNTAX, "unclosed comment")
-        body = _COMMENT.sub(lambda mt: " " * len(mt.group(0)), body)
-        for bad, what in (
-            ("#", "parameters (#)"),
-            ("[", "expressions ([ ])"),
-            ("<", "named parameters"),
-        ):
-            k = body.find(bad)
-            if k >= 0:
-                raise _Stop(
-                    Code.NC_UNSUPPORTED, f"{what} are not supported by the rs274 reader", k + 1
-                )
-        m = re.search(r"(?i)\bo\s*[\d<]", body) or re.match(r"(?i)\s*o", body)
-        if m:
-            raise _Stop(
-                Code.NC_UNSUPPORTED,
-                "O-word subroutines and control flow are not supported",
-                m.start() + 1,
-            )
-        words: list[tuple[str, float, int]] = []
-        end = 0
-        for mt in _WORD.finditer(body):
-            gap = body[end : mt.start()].strip()
-            if gap:
-                raise _Stop(Code.NC_SYNTAX, f"cannot read {gap!r}", end + 1)
-            letter = mt.group(1).upper()
+    def _block(self, words: list[tuple[str, float, int]], span: SourceSpan, st: _State, moves: list[Move]) -> bool:
+        for letter, _, col in words:
             if letter not in _ALLOWED_LETTERS:
-                raise _Stop(Code.NC_UNSUPPORTED, f"word {letter} is not supported", mt.start() + 1)
-            words.append((letter, float(mt.group(2).replace(" ", "")), mt.start() + 1))
-            end = mt.end()
-        gap = body[end:].strip()
-        if gap:
-            raise _Stop(Code.NC_SYNTAX, f"cannot read {gap!r}", end + 1)
-        return words
-
-    def _block(self, line: str, span: SourceSpan, st: _State, moves: list[Move]) -> bool:
-        words = self._words(line)
-        if words and words[0][0] == "N":
-            span = SourceSpan(span.file, span.line, span.column, f"N{int(words[0][1])}")
-            words = words[1:]
+                raise _Stop(Code.NC_UNSUPPORTED, f"word {letter} is not supported", col)
         values: dict[str, float] = {}
         gcodes: list[tuple[float, int]] = []
         mcodes: list[tuple[int, int]] = []

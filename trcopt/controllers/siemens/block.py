@@ -15,6 +15,7 @@ from __future__ import annotations
 from trcopt.codes import Code
 from trcopt.controllers.siemens.lexer import Expr, Word
 from trcopt.controllers.siemens.path_control import PathControlState
+from trcopt.controllers.siemens.variables import Variables
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.modes import SarContour, Side
@@ -43,8 +44,8 @@ _MOTION_WORDS = {
     "SUPA": "a move in machine coordinates", "TRAORI": "a kinematic transformation",
     "TRANSMIT": "a kinematic transformation", "TRACYL": "a kinematic transformation",
     "TRAANG": "a kinematic transformation",
-    # variables and procedures (their values set the motion)
-    "DEF": "a variable definition", "PROC": "a subprogram definition", "SAVE": "a subprogram attribute",
+    # procedures (DEF is read by trcopt.controllers.siemens.variables)
+    "PROC": "a subprogram definition", "SAVE": "a subprogram attribute",
 }  # fmt: skip
 _MOTION_G = {53: "a move in machine coordinates", 153: "a move in machine coordinates"}
 #: keywords without a value that are known not to move the tool (reported and ignored); any other
@@ -103,6 +104,7 @@ class WordReader:
     path: PathControlState
     geom_scale: float
     feed_scale: float
+    variables: Variables
 
     def _warn(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diagnostics.append(Diagnostic(Severity.WARNING, code, message, span))
@@ -118,11 +120,7 @@ class WordReader:
         if value is None:
             raise fail(Code.NC_SYNTAX, f"{word.name} without a value", self._at(span, word))
         if isinstance(value, Expr):
-            raise fail(
-                Code.NC_UNSUPPORTED_EXPR,
-                f"expression {word.text!r} uses variables, which trcopt does not evaluate",
-                self._at(span, word),
-            )
+            return self.variables.word_value(word, value, span)
         raise fail(Code.NC_SYNTAX, f"invalid value in {word.text!r}", self._at(span, word))
 
     def _integer(self, word: Word, span: SourceSpan) -> int:
@@ -142,10 +140,10 @@ class WordReader:
         value = word.value
         if type(value) is tuple:
             mode, inner = value
+            if mode in ("AC", "IC") and isinstance(inner, Expr):
+                inner = self.variables.word_value(word, inner, span)
             if mode in ("AC", "IC") and type(inner) is float:
                 return inner * self.geom_scale, mode == "AC"
-            if isinstance(inner, Expr):
-                self._number(Word(word.name, inner, word.column, word.text), span)
             raise fail(
                 Code.NC_SYNTAX,
                 f"invalid value in {word.text!r} (expected AC(..) or IC(..))",
@@ -162,6 +160,13 @@ class WordReader:
             raise fail(
                 Code.NC_UNSUPPORTED,
                 f"{word.name} is not supported by trcopt (it would change the geometry)",
+                self._at(span, word),
+            )
+        if word.subscript is not None and word.assigned and not word.name.startswith("$"):
+            raise fail(
+                Code.NC_UNSUPPORTED,
+                f"{word.text}: {word.name} is neither an R-parameter nor a DEF array; indexed addresses "
+                "are not modelled by trcopt",
                 self._at(span, word),
             )
         what = _motion_word(word)
@@ -185,8 +190,14 @@ class WordReader:
         parts = (word.subscript or "").split(",")
         try:
             values = tuple(int(p) for p in parts)
-        except ValueError:
-            values = ()
+        except ValueError:  # an index written as an expression: $TC_DP6[R1,1]
+            first = word.column + word.text.find("[") + 1
+            numbers = []
+            offset = 0
+            for p in parts:
+                numbers.append(self.variables.evaluate(p, span, first + offset))
+                offset += len(p) + 1
+            values = tuple(int(v) for v in numbers) if all(v == int(v) for v in numbers) else ()
         if len(values) != count or min(values) < 0:
             raise fail(
                 Code.NC_SYNTAX,

@@ -84,11 +84,12 @@ _TOKEN = re.compile(
      (?P<ws>[ \t\r\f\v]+)
     |(?P<comment>;.*)
     |(?P<sys>\$[A-Z_][A-Z0-9_]*)
+    |(?P<arr>[A-Z_][A-Z0-9_]*)(?=[ \t]*\[)
     |(?P<call>[A-Z_][A-Z0-9_]*)(?=\()
     |(?P<kw>(?:"""
     + _DIGIT_KEYWORDS
     + r"""))(?![A-Z0-9_.])
-    |(?P<name>[A-Z_]+[0-9]*)[ \t]*=[ \t]*
+    |(?P<name>[A-Z_]{2}[A-Z0-9_]*|[A-Z_]+[0-9]*)[ \t]*=(?!=)[ \t]*
     |(?P<addr>[A-Z_]+)(?P<num>[-+]?[0-9.]*)
     |(?P<bare>[-+]?[0-9.]+)
     |(?P<bad>.)
@@ -112,11 +113,16 @@ _PREFIX = re.compile(  # leading white space as _TOKEN's (a form feed before N50
 )
 _INDEX = re.compile(r"\[(?P<idx>[^\[\]\n]*)\](?P<eq>[ \t]*=[ \t]*)?")
 _STRING = re.compile(r'"(?P<s>[^"\n]*)"')
-# value text after '=': runs of non-separators and (up to two levels of) bracketed groups
-_VALUE = re.compile(r'(?:[^\s;()"=\[\]]|\((?:[^()\n]|\([^()\n]*\))*\))+')
 _CALL = re.compile(r'\((?:"[^"\n]*"|[^()"\n]|\([^()\n]*\))*\)')
 _MODE = re.compile(r"(?P<mode>[A-Z]{2,3})\((?P<inner>.*)\)\Z", re.I | re.S)
 _CONST_EXPR = re.compile(r"[-+*/0-9. ()\t]+\Z")
+_EXPR_HINT = re.compile(r"[A-Z_$<>=\[]", re.I)  # text the expression evaluator reads
+#: position modes written ``X=AC(..)``, feed modes ``FAD=PM(..)``; any other NAME(..) is a function
+_MODES = {"AC", "IC", "DC", "ACP", "ACN", "PM", "PR", "CAC", "CIC", "CDC", "CACP", "CACN"}
+_VALUE_OPS = re.compile(
+    r"[ \t]*(?:==|<>|<=|>=|[-+*/<>]|(?:DIV|MOD|AND|OR|XOR|B_AND|B_OR|B_XOR)(?![A-Z0-9_]))", re.I
+)
+_OPEN_END = re.compile(r"(?:[-+*/<>=(\[,]|(?<![A-Z0-9_])(?:DIV|MOD|AND|OR|XOR|NOT|B_AND|B_OR|B_XOR|B_NOT))\Z", re.I)
 
 _BINOPS = {
     ast.Add: operator.add,
@@ -156,10 +162,12 @@ def parse_number(text: str) -> float | Expr:
     if _CONST_EXPR.match(text):
         try:
             value = _eval_const(ast.parse(text.strip(), mode="eval"))
-        except (SyntaxError, ValueError, ZeroDivisionError, OverflowError, RecursionError):
+        except ZeroDivisionError:
+            return Expr(text)  # evaluated (and reported as division by zero) where it is used
+        except (SyntaxError, ValueError, OverflowError, RecursionError):
             raise ValueError(f"invalid number {text!r}") from None
         return _checked(value, text)
-    if re.search(r"[A-Z_$]", text, re.I):
+    if _EXPR_HINT.search(text):
         return Expr(text)
     raise ValueError(f"invalid number {text!r}")
 
@@ -169,7 +177,7 @@ def _parse_value(text: str, column: int, name: str) -> object:
     if text.startswith('"'):
         return text[1:-1]
     m = _MODE.match(text)
-    if m and "(" not in m.group("mode"):
+    if m and m.group("mode").upper() in _MODES and _balanced(m.group("inner")):
         inner = m.group("inner").strip()
         try:
             return (m.group("mode").upper(), parse_number(inner))
@@ -188,18 +196,76 @@ def _read_value(line: str, pos: int, column: int, name: str) -> tuple[object, in
         if m is None:
             raise LexError(f"unterminated string in {name}", column)
         return m.group("s"), m.end(), m.group(0)
-    m = _VALUE.match(line, pos)
-    if m is None:
-        if pos < len(line) and line[pos] == "(":
-            raise LexError(f"unbalanced bracket in value of {name}", column)
+    end = _value_end(line, pos)
+    if end is None:
+        raise LexError(f"unbalanced bracket in value of {name}", column)
+    if end == pos:
         raise LexError(f"{name}= without a value", column)
-    end = m.end()
-    if end < len(line) and line[end] in "([":
-        raise LexError(f"unbalanced bracket in value of {name}", column)
-    text = m.group(0)
-    if text.count("(") != text.count(")"):
-        raise LexError(f"unbalanced bracket in value of {name}", column)
+    text = line[pos:end]
     return _parse_value(text, column, name), end, text
+
+
+def _bracket_end(line: str, pos: int) -> int | None:
+    """Index after the bracket that closes the one at ``pos`` (None: not closed)."""
+    depth = 0
+    for i in range(pos, len(line)):
+        if line[i] in "([":
+            depth += 1
+        elif line[i] in ")]":
+            depth -= 1
+            if depth == 0:
+                return i + 1
+    return None
+
+
+def _balanced(text: str) -> bool:
+    """The brackets of ``text`` close in order and never go below zero."""
+    depth = 0
+    for ch in text:
+        if ch in "([":
+            depth += 1
+        elif ch in ")]":
+            depth -= 1
+            if depth < 0:
+                return False
+    return depth == 0
+
+
+def _value_end(line: str, pos: int) -> int | None:
+    """End of the value starting at ``pos``: brackets balanced, white space only around operators
+    (``X=R1 * 2`` is one value, ``X=R1 Y=2`` two words); None for an unclosed bracket."""
+    n = len(line)
+    depth = 0
+    i = pos
+    while i < n:
+        ch = line[i]
+        if ch in "([":
+            depth += 1
+        elif ch in ")]":
+            if depth == 0:
+                break
+            depth -= 1
+        elif depth == 0:
+            if ch == ";" or ch == '"':
+                break
+            if ch == "=" and not (i + 1 < n and line[i + 1] == "=") and line[i - 1] not in "<>=":
+                break
+            if ch in " \t":
+                if _OPEN_END.search(line, pos, i) is not None:
+                    i += 1
+                    continue
+                m = _VALUE_OPS.match(line, i)
+                if m is None:
+                    break
+                i = m.end()
+                continue
+        i += 1
+    if depth:
+        return None
+    end = i
+    while end > pos and line[end - 1] in " \t":
+        end -= 1
+    return end
 
 
 def lex_line(line: str) -> LexedBlock:
@@ -288,6 +354,19 @@ def _scan(line: str, pos: int, words: list[Word]) -> str | None:
             name = m.group("name").upper()
             assigned, pos, _ = _read_value(line, pos, column, name)
             words.append(Word(name, assigned, column, line[start:pos], None, True))
+        elif kind == "arr":
+            # an indexed assignment: R[2*R1]=5, TAB[1,2]=R3 (the index text is the subscript)
+            name = m.group("arr").upper()
+            bracket = line.index("[", pos)
+            end = _bracket_end(line, bracket)
+            if end is None:
+                raise LexError(f"unbalanced bracket in {name}[", column)
+            index = line[bracket + 1 : end - 1].strip()
+            eq = re.compile(r"[ \t]*=(?!=)[ \t]*").match(line, end)
+            if eq is None:
+                raise LexError(f"{name}[{index}] is not in an assignment form", column)
+            assigned, pos, _ = _read_value(line, eq.end(), column, name)
+            words.append(Word(name, assigned, column, line[start:pos], index, True))
         elif kind == "call":
             # a procedure call (``CYCLE832(0.01, 1, 1)``, ``MSG("…")``): the argument text is the
             # subscript; the handler of the name reads it

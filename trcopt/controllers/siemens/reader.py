@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import gc
 import math
+import re
 
 from trcopt.codes import Code
-from trcopt.controllers.siemens.block import Block
-from trcopt.controllers.siemens.lexer import LexedBlock, LexError, lex_line
+from trcopt.controllers.siemens.block import _GEOMETRY_WORDS, _MOTION_WORDS, _QUIET_KEYWORDS, Block
+from trcopt.controllers.siemens.lexer import Expr, LexedBlock, LexError, Word, lex_line
 from trcopt.controllers.siemens.path_control import PathControlState
+from trcopt.controllers.siemens.variables import DEF_LINE, Variables
 from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
 from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
@@ -35,6 +37,11 @@ from trcopt.nc.tools import ToolTable
 __all__ = ["SiemensReader", "read_siemens"]
 
 _RAPID, _ARC, _NONE = MoveKind.RAPID, MoveKind.ARC, MoveKind.NONE
+#: names a DEF variable may not take: addresses and keywords trcopt reads or refuses
+_RESERVED = frozenset(
+    [*WORD_HANDLERS, *_MOTION_WORDS, *_GEOMETRY_WORDS, *_QUIET_KEYWORDS, "PROC", "REAL", "INT", "BOOL", "CHAR",
+     "STRING", "AXIS", "FRAME", "SUPA", "CIP", "CT"]
+)  # fmt: skip
 
 
 class SiemensReader(SiemensWords):
@@ -59,6 +66,8 @@ class SiemensReader(SiemensWords):
         self._plane_uv = Plane.G17.axes[:2]  # indices of the active plane's u and v axes
         self.arc_ccw = False  # G3 (True) or G2 (False), modal with the motion group
         self._warned_no_feed = False
+        self.variables = Variables(_RESERVED)
+        self._executable = False  # a DEF after the first executable block is alarm 14500
 
     # ------------------------------------------------------------------ driver
     def read(self, text: str) -> NcProgram:
@@ -76,6 +85,16 @@ class SiemensReader(SiemensWords):
         lines = program_lines(text)
         ended = failed = False
         for lineno, line in enumerate(lines, 1):
+            definition = DEF_LINE.match(line)
+            if definition is not None:
+                self.blocks += 1
+                try:
+                    self._define(line, lineno, definition)
+                except AlarmError as exc:
+                    self.diagnostics.append(exc.diagnostic)
+                    failed = True
+                    break
+                continue
             try:
                 lexed = lex_line(line)
             except LexError as exc:
@@ -118,17 +137,48 @@ class SiemensReader(SiemensWords):
             extras=extras,
         )
 
+    def _define(self, line: str, lineno: int, m: re.Match[str]) -> None:
+        """A DEF block: only in the definition part, before the first executable block."""
+        number = None if m.group("n") is None else "N" + str(int(m.group("n")))
+        column = line.upper().index("DEF", m.start("n") if m.group("n") else 0) + 1
+        span = SourceSpan(self.file, lineno, column, number)
+        if self._executable:
+            raise AlarmError(
+                alarm(
+                    14500, "DEF after the first executable block: definitions belong at the start of the program", span
+                )
+            )
+        self.variables.define(line, m.end(), span)
+
+    def _assign(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """``R1=…``, ``R[…]=…``, ``NAME=…``, ``NAME[…]=…``: evaluated and stored in block order."""
+        value = word.value
+        if type(value) is not float:
+            if not isinstance(value, Expr):
+                if isinstance(value, str):  # a string into a STRING variable: nothing trcopt uses
+                    if word.name in self.variables.user and self.variables.user[word.name].type == "STRING":
+                        return
+                raise fail(Code.NC_SYNTAX, f"invalid value in {word.text!r}", self._at(span, word))
+            value = self.variables.word_value(word, value, span)
+        if not self.variables.assign(word, value, span):
+            message = f"{word.text}: STRING variables are not modelled (ignored)"
+            self._warn(Code.NC_UNSUPPORTED_WORD, message, self._at(span, word))
+
     def _block(self, lexed: LexedBlock, lineno: int) -> bool:
         span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
+        self._executable = True
         b = Block()
         if lexed.label is not None:
             b.actions.append(lexed.label + ":")
         handlers = WORD_HANDLERS
+        variables = self.variables
         for word in lexed.words:
             handler = handlers.get(word.name)
             if handler is None:
                 if word.name[0] == "$":
                     self._system_variable(word, b, span)
+                elif variables.is_assignment(word):
+                    self._assign(word, b, span)
                 else:
                     self._unsupported(word, b, span)
             else:

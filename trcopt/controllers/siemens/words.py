@@ -291,6 +291,8 @@ class SiemensWords(WordReader):
         mode = ""
         if type(value) is tuple:
             mode, inner = value
+            if mode in ("PM", "PR") and isinstance(inner, Expr):
+                inner = self.variables.word_value(word, inner, span)
             if mode not in ("PM", "PR") or type(inner) is not float:
                 raise fail(
                     Code.NC_SYNTAX,
