@@ -486,10 +486,8 @@ def transition_cap(t: Transition, lim: Limits, every_term: bool = False) -> floa
     cap = min(lim.V, math.sqrt(lim.A / kap), (lim.J / kap**2) ** (1.0 / 3.0))
     if every_term:
         u = np.linspace(0.0, 1.0, 4001)
-        speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
-        s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
         k = t.curvature(u)
-        worst = float(np.max(np.hypot(k * k, np.gradient(k, s_loc))))
+        worst = float(np.max(np.hypot(k * k, np.gradient(k, _arc_param(t, u)))))
         cap = min(cap, (lim.J / worst) ** (1.0 / 3.0))
     return cap
 
@@ -573,27 +571,38 @@ def zhao2013(points: np.ndarray, eps: float, lim: Limits = Limits(), share: floa
     return res
 
 
-def normal_load(res: PlanResult, lim: Limits, samples: int = 801) -> tuple[float, float]:
-    """Largest v²κ/A and v³κ²/J on the transitions of a :func:`zhao2013` plan (sampled)."""
-    if not res.transitions:
-        return 0.0, 0.0
-    s_parts, v_parts = [], []
+def _arc_param(t: Transition, u: np.ndarray) -> np.ndarray:
+    """Arc length along transition ``t`` at its parameters ``u`` (trapezoid of |C′|, scaled to
+    the transition's arc length)."""
+    speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
+    s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
+    return s_loc * (t.arc_length / s_loc[-1])
+
+
+def _transition_states(res: PlanResult, samples: int, per_block: int):
+    """Per transition of a :func:`zhao2013` plan: curvature κ, dκ/ds and the planned v, a_t, j_t
+    at ``samples`` parameters (the profiles sampled ``per_block`` times and at their knots)."""
+    parts = []
     offset = 0.0
     for p in res.profiles:
-        t = np.unique(np.r_[np.linspace(0.0, p.duration, 400), p.knots()[:, 0]])
-        s, v, _, _ = p.sample(t)
-        s_parts.append(s + offset)
-        v_parts.append(v)
+        t = np.unique(np.r_[np.linspace(0.0, p.duration, per_block), p.knots()[:, 0]])
+        s, v, a, j = p.sample(t)
+        parts.append(np.c_[s + offset, v, a, j])
         offset += p.length
-    s_all, v_all = np.concatenate(s_parts), np.concatenate(v_parts)
-    acc = jerk = 0.0
+    table = np.concatenate(parts)
+    table = table[np.argsort(table[:, 0], kind="stable")]
     u = np.linspace(0.0, 1.0, samples)
     for t, s0 in zip(res.transitions, res.transition_starts, strict=True):
-        speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
-        s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
-        s_loc *= t.arc_length / s_loc[-1]
-        v = np.interp(s0 + s_loc, s_all, v_all)
+        s_loc = _arc_param(t, u)
+        v, a_t, j_t = (np.interp(s0 + s_loc, table[:, 0], table[:, c]) for c in (1, 2, 3))
         kap = t.curvature(u)
+        yield kap, np.gradient(kap, s_loc), v, a_t, j_t
+
+
+def normal_load(res: PlanResult, lim: Limits, samples: int = 801) -> tuple[float, float]:
+    """Largest v²κ/A and v³κ²/J on the transitions of a :func:`zhao2013` plan (sampled)."""
+    acc = jerk = 0.0
+    for kap, _, v, _, _ in _transition_states(res, samples, 400):
         acc = max(acc, float(np.max(v**2 * kap)) / lim.A)
         jerk = max(jerk, float(np.max(v**3 * kap**2)) / lim.J)
     return acc, jerk
@@ -604,26 +613,8 @@ def vector_load(res: PlanResult, lim: Limits, samples: int = 2001) -> tuple[floa
     ``a = a_t·T + κv²·N`` and ``j = (j_t − κ²v³)·T + (3κ·v·a_t + κ′v³)·N`` (plane curve in arc
     length; κ′ = dκ/ds). :func:`normal_load` keeps only κv² and κ²v³, the terms the plan's
     speed cap controls."""
-    if not res.transitions:
-        return 0.0, 0.0
-    parts = []
-    offset = 0.0
-    for p in res.profiles:
-        t = np.unique(np.r_[np.linspace(0.0, p.duration, 2000), p.knots()[:, 0]])
-        s, v, a, j = p.sample(t)
-        parts.append(np.c_[s + offset, v, a, j])
-        offset += p.length
-    table = np.concatenate(parts)
-    table = table[np.argsort(table[:, 0], kind="stable")]
     acc = jerk = 0.0
-    u = np.linspace(0.0, 1.0, samples)
-    for t, s0 in zip(res.transitions, res.transition_starts, strict=True):
-        speed = np.linalg.norm(t.evaluate(u, 1), axis=1)
-        s_loc = np.r_[0.0, np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))]
-        s_loc *= t.arc_length / s_loc[-1]
-        v, a_t, j_t = (np.interp(s0 + s_loc, table[:, 0], table[:, c]) for c in (1, 2, 3))
-        kap = t.curvature(u)
-        dkap = np.gradient(kap, s_loc)
+    for kap, dkap, v, a_t, j_t in _transition_states(res, samples, 2000):
         a_norm = np.hypot(a_t, kap * v**2)
         j_norm = np.hypot(j_t - kap**2 * v**3, 3.0 * kap * v * a_t + dkap * v**3)
         acc = max(acc, float(np.max(a_norm)) / lim.A)

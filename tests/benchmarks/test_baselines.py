@@ -221,3 +221,17 @@ def test_cli_prints_every_path_and_method(capsys):
     out = capsys.readouterr().out
     for text in ("rotated square", "butterfly", "zig-zag", "G01 junction speed", "Zhao, Zhu & Ding 2013"):
         assert text in out
+
+
+def test_every_jerk_term_is_checked_and_the_every_term_cap_holds_it():
+    """The midpoint and whole-transition readings bound only κ²v³; counting κ′v³ (the curvature
+    change) they break J on the square, and the every-term cap keeps |j| within it."""
+    pts = bl._clean(bl.rotated_square())
+    for mode in ("midpoint", "constant"):
+        res = bl.zhao2013(pts, 0.2, LIM, transition_speed=mode)
+        acc, jerk = bl.vector_load(res, LIM)
+        n_acc, n_jerk = bl.normal_load(res, LIM)
+        assert acc >= n_acc - 1e-12 and jerk > 1.05 > n_jerk
+    safe = bl.zhao2013(pts, 0.2, LIM, transition_speed="every-term")
+    assert bl.vector_load(safe, LIM)[1] <= 1.001
+    assert safe.total_time > bl.zhao2013(pts, 0.2, LIM, transition_speed="constant").total_time
