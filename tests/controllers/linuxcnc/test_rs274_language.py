@@ -10,6 +10,7 @@ tests run without rs274; where it is installed (``$RS274`` or ``/tmp/lcnc/bin/rs
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import shutil
@@ -262,3 +263,23 @@ def test_stored_values_are_rs274s(tmp_path: Path) -> None:
         run = subprocess.run([RS274, "-t", str(SIM_TBL), "-g", path.name], capture_output=True, text=True,
                              cwd=tmp_path, timeout=30)  # fmt: skip
         assert message.format(name=path.name) in run.stdout + run.stderr, text
+
+
+def test_d0_leaves_every_move_as_programmed_and_a_plane_change_keeps_the_position() -> None:
+    """LinuxCNC compensates only with a radius > 0: with ``G41.1 D0`` an arc–arc concave corner
+    is no error and every move is the programmed one; a later G18 block starts where the tool is."""
+    text = (
+        "G21 G17 G90 G0 X0 Y0 Z0\nG41.1 D0\nG1 X10 Y0 F100\nG3 X20 Y10 I0 J10\n"
+        "G2 X5 Y10 I-7.5 J0\nG40 G1 X0 Y7\nG18\nG0 X5 Z3\nM2\n"
+    )
+    result = plan(text, file="d0.ngc", options=PlanOptions(dialect="rs274", timing=False))
+    assert result.ok, [d.format() for d in result.errors]
+    prog = [(s.start_xyz, s.end_xyz) for s in result.programmed]
+    tool = [(s.start_xyz, s.end_xyz) for s in result.toolpath]
+    assert len(tool) == len(prog)
+    for (a0, a1), (b0, b1) in zip(tool, prog, strict=True):
+        assert math.dist(a0, b0) < 1e-9 and math.dist(a1, b1) < 1e-9
+    last = result.toolpath[-1]
+    # the G18 move starts at X0 Y7 Z0 (the position kept across the plane change, not read as G18's
+    # own coordinates) and ends at X5 Y7 Z3
+    assert math.dist(last.start_xyz, (0.0, 7.0, 0.0)) < 1e-9 and math.dist(last.end_xyz, (5.0, 7.0, 3.0)) < 1e-9

@@ -200,26 +200,28 @@ class _LinuxCncCompensator:
             self.on, self.first = True, True
             self.side = 1 if want is Side.LEFT else -1
             self.r = comp.effective_radius
-            self.plane = m.plane
+            self._set_plane(m.plane)
             self.exit_pending = False
         elif want is Side.OFF and self.on:
             yield from self._flush_where_the_tool_is(m.span)
             self.on = False
-            self.exit_pending = not self.first
+            self.exit_pending = not self.first and self.r > 0.0
             self.first = False
         if self.on and m.plane is not self.plane:
             if m.plane is Plane.G19:
                 raise CompensationStop(Code.LCNC_YZ_PLANE, m.span)
-            self.plane = m.plane
+            self._set_plane(m.plane)
         if m.kind is MoveKind.NONE:
             return
         plane = m.plane
         start, end = plane.to_uvw(m.start), plane.to_uvw(m.end)
         if self.cur is None or not self.on:
-            self.plane = plane
+            self._set_plane(plane)
         if self.cur is None:
             self.cur = self.prog = start
-        if not self.on:
+        if not self.on or self.r <= 0.0:
+            # a zero radius (G41.1 D0) leaves every move as programmed: LinuxCNC compensates only
+            # with cutter_comp_radius > 0 (convert_straight, convert_arc)
             yield from self._uncompensated(m, start, end)
         elif self.first:
             if m.kind is not MoveKind.ARC and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0:
@@ -234,6 +236,17 @@ class _LinuxCncCompensator:
             yield from self._straight(m, end)
 
     # -- compensation off -------------------------------------------------------------------
+    def _set_plane(self, plane: Plane) -> None:
+        """Work in ``plane`` from now on: the tool position, kept in the plane's (u, v, w), is
+        carried over to the new plane's coordinates."""
+        if plane is self.plane:
+            return
+        if self.cur is not None:
+            self.cur = plane.to_uvw(self.plane.to_xyz(self.cur))
+        if self.prog is not None:
+            self.prog = plane.to_uvw(self.plane.to_xyz(self.prog))
+        self.plane = plane
+
     def _uncompensated(self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False) -> Iterator[Segment]:
         assert self.cur is not None
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.CONTOUR
