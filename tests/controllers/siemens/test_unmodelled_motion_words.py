@@ -42,7 +42,10 @@ def test_unmodelled_motion_word_is_a_located_error(line, column, what):
     assert all(seg.span.line < 5 for seg in r.toolpath)
 
 
-@pytest.mark.parametrize("line", ["FFWON", "SOFT", "STOPRE", "G54", "R1=5", 'MSG("roughing")'])
+@pytest.mark.parametrize(
+    "line", ["FFWON", "SOFT", "STOPRE", "G54", "R1=5", 'MSG("roughing")', "TRAFOOF",
+             'WORKPIECE(,"",,"BOX",112,0,-20,-80,0,0,100,100)', "FGROUP(X,Y,Z)"],
+)
 def test_words_that_do_not_move_the_tool_still_plan(line):
     r = run(line)
     assert r.ok, [d.message for d in r.errors]

@@ -54,7 +54,10 @@ _QUIET_KEYWORDS = {
     "FFWON", "FFWOF", "SOFT", "SOFTA", "BRISK", "BRISKA", "DRIVE", "DRIVEA", "STOPRE", "WAITM", "WAITS",
     "CFC", "CFTCP", "CFIN", "COMPOF", "COMPON", "COMPCURV", "COMPCAD", "COMPSURF", "UPATH", "SPATH",
     "FNORM", "FLIN", "FCUB", "DIAMOF", "DIAMON", "DIAM90", "ACN", "ACP", "DC", "G60", "G9",
+    "TRAFOOF", "STOPFIFO", "STARTFIFO", "FIFOCTRL",
 }  # fmt: skip
+#: calls known not to move the tool (the blank of the controller's simulation, feed grouping)
+_QUIET_CALLS = {"WORKPIECE", "FGROUP"}
 
 
 class Block:
@@ -214,7 +217,10 @@ def _motion_word(word: Word) -> str | None:
         return _MOTION_G[int(word.value)]
     if word.name in _MOTION_WORDS:
         return _MOTION_WORDS[word.name]
-    if word.subscript is not None and not word.name.startswith("$") and "(" in word.text:
+    if (
+        word.subscript is not None and not word.name.startswith("$") and "(" in word.text
+        and word.name not in _QUIET_CALLS
+    ):
         return "a cycle or procedure call"  # CYCLE81(…), POCKET3(…), a program with parameters
     if (
         word.value is None and word.subscript is None and len(word.name) > 1 and word.name.isidentifier()
