@@ -41,6 +41,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -49,6 +50,7 @@ from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import parametric_curve
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.verify.model import points_distance, points_foot
+from trcopt.verify.nearest import ElementSet
 
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline
@@ -94,6 +96,11 @@ class ChainSite:
     material_sign: float
     w: float
     max_turn: float  # rad
+
+    @cached_property
+    def programmed_set(self) -> ElementSet:
+        """:attr:`programmed` as an :class:`~trcopt.verify.nearest.ElementSet` (batched distances)."""
+        return ElementSet(self.programmed)
 
 
 @dataclass
@@ -373,7 +380,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     # exact checks on dense samples
     dense = np.linspace(0.0, S, max(2001, int(S / 0.01)))
     P = np.stack((cx(dense), cy(dense)), axis=1)
-    clear = min((float(points_distance(e, P).min()) for e in site.programmed), default=math.inf)
+    clear = site.programmed_set.min_distance(P)
     offset = _free_offset(site, P)
     d1 = np.stack((cx(dense, 1), cy(dense, 1)), axis=1)
     d2 = np.stack((cx(dense, 2), cy(dense, 2)), axis=1)

@@ -34,7 +34,6 @@ import numpy as np
 from trcopt.optimize.corners.curves import frame_back, frame_forward, quintic_basis, quintic_third_basis, rot90
 from trcopt.optimize.corners.sites import CornerSite
 from trcopt.solution import Solution, SolveStatus
-from trcopt.verify.model import points_distance
 
 __all__ = ["CornerBlendProblem", "CornerGeometry", "CornerSolution"]
 
@@ -140,10 +139,7 @@ class CornerBlendProblem:
         kappa = cross / np.maximum(sp, 1e-300) ** 3
         s = self.site
         dev = s.material_left(p, float(x[0]), float(x[3]), self.eps)
-        if s.programmed:
-            clear = np.min([points_distance(e, p) for e in s.programmed], axis=0)
-        else:
-            clear = np.full(len(p), np.inf)
+        clear = s.programmed_set.distance(p)
         out = {"kappa": kappa, "speed": sp, "dev": dev, "clear": clear, "points": p}
         if self.limits is not None:
             d3 = (quintic_third_basis(np.linspace(0.0, 1.0, 400)) if dense else self.H3) @ C

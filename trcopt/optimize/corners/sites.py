@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -23,7 +24,9 @@ from trcopt.optimize.corners.chain import KNOT_MIN_JUMP_PER_MM
 from trcopt.optimize.corners.curves import Element, frame_back, frame_forward, joint_turn, signed_curvature
 from trcopt.path import Role, Segment
 from trcopt.verify.contour import part_contour
-from trcopt.verify.model import points_distance
+from trcopt.verify.index import BoxGrid
+from trcopt.verify.model import bbox, points_distance
+from trcopt.verify.nearest import ElementSet
 
 __all__ = [
     "MAX_TURN_RAD",
@@ -109,6 +112,11 @@ class CornerSite:
         centres = np.vstack((curve, np.array(legs)))
         out[open_] = material_left(self.probes[open_], self.probe_dirs[open_], centres, R)
         return out
+
+    @cached_property
+    def programmed_set(self) -> ElementSet:
+        """:attr:`programmed` as an :class:`~trcopt.verify.nearest.ElementSet` (batched distances)."""
+        return ElementSet(self.programmed)
 
     @property
     def joint(self) -> np.ndarray:
@@ -206,6 +214,7 @@ def find_corner_sites(
         for p in part_contour(programmed, toolpath)
         if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
+    grids = _PlaneGrids(contour)
     sites = []
     for k in sorted(joints + circles):
         circle = k in circles and k not in at
@@ -238,9 +247,8 @@ def find_corner_sites(
         sign = material_sign(seg0)
         J = np.array(a.point2(1.0))
         reach = max(avail_a, avail_b) + 3.0 * R
-        prog = tuple(
-            g for plane, g in contour if plane == seg0.plane and points_distance(g, J[None, :])[0] <= reach + R
-        )
+        candidates = grids.near(seg0.plane, (J[0], J[1], J[0], J[1]), reach + R)
+        prog = tuple(g for g in candidates if points_distance(g, J[None, :])[0] <= reach + R)
         # exact neighbourhood: previous, the replaced elements, next (when joined)
         ex: list[Line | Arc] = []
         prev = toolpath[first - 1] if first >= 1 else None
@@ -268,6 +276,24 @@ def find_corner_sites(
         site = CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, dirs, ga.end[2], context, min_cut)
         sites.append((k, site))
     return sites
+
+
+class _PlaneGrids:
+    """The part contour's elements hashed per plane (:class:`~trcopt.verify.index.BoxGrid`): the
+    elements within a distance of a point in contour order, without a pass over the whole contour."""
+
+    def __init__(self, contour: Sequence[tuple[Plane, Element]]) -> None:
+        self._by_plane: dict[Plane, tuple[list[Element], BoxGrid]] = {}
+        for plane in {p for p, _ in contour}:
+            els = [g for p, g in contour if p == plane]
+            self._by_plane[plane] = (els, BoxGrid(np.array([bbox(g) for g in els], float)))
+
+    def near(self, plane: Plane, box: tuple[float, float, float, float], margin: float) -> list[Element]:
+        """The elements of ``plane`` whose boxes come within ``margin`` (mm) of ``box``, in contour order."""
+        if plane not in self._by_plane:
+            return []
+        els, grid = self._by_plane[plane]
+        return [els[int(i)] for i in grid.near(box, margin)]
 
 
 def _line_intersection(a: Line, b: Line) -> tuple[float, float] | None:
