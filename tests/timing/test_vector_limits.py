@@ -209,3 +209,39 @@ def test_sharp_g2_transition_keeps_the_vector_acceleration_between_grid_points()
     rep = traj.check_limits(dt=1e-4)
     assert rep.ok, str(rep)
     assert rep.path_a_ratio <= 1.001
+
+
+def test_axis_rows_implied_by_the_vector_rows_are_left_out_with_the_same_profile(monkeypatch):
+    """With axis limits at or above the vector ones the per-axis acceleration and jerk rows follow
+    from the vector rows: the NLP leaves them out (fewer constraints) and finds the same profile,
+    which still meets every per-axis row; an axis limit below the vector one keeps its rows."""
+    from trcopt.timing.jerk_problem import JerkProblem
+
+    path = line_arc_line(5.0, 150.0)
+    # the X/Y jerk limits equal to the vector one: still implied (|j_k| ≤ |j| ≤ J)
+    close = tuple((k, AxisLimits(1e4, 1e6, J)) for k in "XYZ")
+    machine = Machine(name="close", rapid_mm_min=60000.0, axes=close, path=PathLimits(V, A, J))
+    pruned = jerk_limited(path, machine)
+    sizes: dict[bool, int] = {}
+    build = JerkProblem.build
+
+    def counting(self):
+        opti = build(self)
+        sizes[self._axis_row_implied("j", 0)] = opti.ng
+        return opti
+
+    monkeypatch.setattr(JerkProblem, "build", counting)
+    jerk_limited(path, machine)
+    monkeypatch.setattr(JerkProblem, "_axis_row_implied", lambda self, kind, k, tighten=1.0: False)
+    full = jerk_limited(path, machine)
+    assert sizes[True] < 0.8 * sizes[False]
+    assert pruned.duration == pytest.approx(full.duration, rel=1e-6)
+    rep = pruned.check_limits(dt=1e-4)
+    assert rep.ok, str(rep)
+    # a per-axis jerk limit below the vector one binds: its rows stay and hold
+    low = tuple((k, AxisLimits(1e4, 1e6, 0.5 * J)) for k in "XYZ")
+    monkeypatch.undo()
+    tight = jerk_limited(path, Machine(name="low", rapid_mm_min=60000.0, axes=low, path=PathLimits(V, A, J)))
+    rep = tight.check_limits(dt=1e-4)
+    assert rep.ok, str(rep)
+    assert tight.duration > pruned.duration * 1.01

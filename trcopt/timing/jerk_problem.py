@@ -199,13 +199,16 @@ class JerkProblem:
         # from above (convex hull), so the speed caps hold inside the interval as well
         opti.subject_to((v0 + a0 * h / 2) / self.vref <= ca.DM(self.grid.icap / self.vref))
         opti.subject_to(H >= 1e-9)
+        tight = float(self.grid.tighten.min()) if self.intervals else 1.0
         for k in self.grid.axes_used:
             lim_a = ca.DM(self.grid.tighten * ACC_MARGIN)
             for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
-                acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
-                jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
-                opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
-                opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
+                if not self._axis_row_implied("a", k, tight):
+                    acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
+                    opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
+                if not self._axis_row_implied("j", k, tight):
+                    jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
+                    opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
         if self.path_amax is not None or self.path_jmax is not None:
             for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
                 acc_v = [ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2 for k in self.grid.axes_used]
@@ -229,6 +232,13 @@ class JerkProblem:
         self._opti = opti
         self._vars = {"V": Vi, "A": A, "H": H, "J": Jp}
         return opti
+
+    def _axis_row_implied(self, kind: str, k: int, tighten: float = 1.0) -> bool:
+        """Whether the per-axis acceleration (``kind`` "a") or jerk ("j") row of axis ``k`` follows
+        from the vector row (|x_k| ≤ |x| ≤ m·limit ≤ m·tighten·axis limit), so it is left out of
+        the NLP (the solution is checked against every row afterwards all the same)."""
+        path, axis = (self.path_amax, self.amax[k]) if kind == "a" else (self.path_jmax, self.jmax[k])
+        return path is not None and path <= axis * tighten
 
     def _vector_rows(self, opti: Any, acc: list[Any], jerk: list[Any]) -> None:
         """``|a|² ≤ (m·A)²`` and ``|j|² ≤ (m·J)²`` (m = ``ACC_MARGIN``) from the components of a and j.
@@ -279,10 +289,12 @@ class JerkProblem:
                 if not np.any(m):
                     continue
                 mask = ca.DM(m.astype(float))
-                acc = mask * (uvw1[comp] * sdd + uvw2[comp] * sd**2) / self.amax[k]
-                jerk = mask * (uvw3[comp] * sd**3 + 3 * uvw2[comp] * sd * sdd + uvw1[comp] * j) / self.jmax[k]
-                opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
-                opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
+                if not self._axis_row_implied("a", k):
+                    acc = mask * (uvw1[comp] * sdd + uvw2[comp] * sd**2) / self.amax[k]
+                    opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
+                if not self._axis_row_implied("j", k):
+                    jerk = mask * (uvw3[comp] * sd**3 + 3 * uvw2[comp] * sd * sdd + uvw1[comp] * j) / self.jmax[k]
+                    opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
 
     def _poly_midpoint_rows(self, opti: Any, ca: Any, v0: Any, a0: Any, h: Any, jj: Any) -> None:
         """Rows at a quarter, half and three quarters of the time of every Poly interval.
@@ -326,8 +338,10 @@ class JerkProblem:
                 )
                 acc = (q1 * sdd + q2 * sd**2) / self.amax[k]
                 jerk = (q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j) / self.jmax[k]
-                opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
-                opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
+                if not self._axis_row_implied("a", k):
+                    opti.subject_to(opti.bounded(-ACC_MARGIN, acc, ACC_MARGIN))
+                if not self._axis_row_implied("j", k):
+                    opti.subject_to(opti.bounded(-ACC_MARGIN, jerk, ACC_MARGIN))
                 if self.path_amax is not None or self.path_jmax is not None:
                     acc_v.append(q1 * sdd + q2 * sd**2)
                     jerk_v.append(q3 * sd**3 + 3 * q2 * sd * sdd + q1 * j)
