@@ -29,13 +29,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from trcopt.codes import Code
 from trcopt.config import DEFAULT_MACHINE, Machine
-from trcopt.errors import GeometryError, SolverError
+from trcopt.errors import GeometryError, SolverError, TimingError
 from trcopt.geometry import Arc, Line, Plane
 from trcopt.geometry.vec import Vec2
 from trcopt.modes import LeadObjective, Side, parse_enum
@@ -181,7 +182,12 @@ def optimal_lead(
                 merged[k] = max(merged.get(k, 0.0), v)
             failures.append((kind, sol, merged))
             return
-        t, objective = lead_time(elements, first_tc, machine, feed_mm_s, plane, rho_min)
+        try:
+            t, objective = lead_time(elements, first_tc, machine, feed_mm_s, plane, rho_min)
+        except TimingError as exc:
+            # a candidate the timing stage cannot parameterise is not a lead the machine can run
+            failures.append((kind, replace(sol, message=f"timing: {exc.message}"), {"timing": 1.0}))
+            return
         candidates.append(
             LeadCandidate(
                 kind, elements, sum(e.length for e in elements), t, ctx.last_min_clear, ctx.last_contact, sol, rho, phi
