@@ -311,7 +311,10 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     pts = ref.points(xs)
     # the QPs are posed in the step from the current spline (small numbers: OSQP's residuals are
     # absolute), starting from the least-squares fit of the exact path
-    fit = np.linalg.lstsq(B0, pts, rcond=None)[0]
+    # the least-squares fit by the normal equations of the banded B-spline basis (well conditioned
+    # with several samples per knot span; a dense lstsq costs O(samples·n²))
+    gram = (B0s.T @ B0s).toarray()
+    fit = np.linalg.solve(gram + 1e-14 * np.trace(gram) / n * np.eye(n), B0s.T @ pts)
     x_lin = np.concatenate((fit[:, 0], fit[:, 1]))
     msg = "max steps"
     x_prev_pts = pts.copy()
@@ -356,7 +359,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         solver = osqp.OSQP()
         ax = A_s @ x_lin
         solver.setup(
-            Pprox, Pm @ x_lin, A_s, lo_all - ax, hi_all - ax, verbose=False, eps_abs=1e-7, eps_rel=1e-7,
+            Pprox, Pm @ x_lin, A_s, lo_all - ax, hi_all - ax, verbose=False, eps_abs=1e-5, eps_rel=1e-5,
             max_iter=40000, rho=1e-3, polishing=True,
         )
         res = solver.solve(raise_error=False)
