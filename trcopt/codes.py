@@ -56,6 +56,9 @@ class Code(enum.StrEnum):
     ALARM_10762 = "10762"
     ALARM_10763 = "10763"
     ALARM_12550 = "12550"
+    ALARM_12640 = "12640"
+    ALARM_14011 = "14011"
+    ALARM_14080 = "14080"
     ALARM_14153 = "14153"
     ALARM_14500 = "14500"
     # --- reading programs ------------------------------------------------------------------------
@@ -79,6 +82,9 @@ class Code(enum.StrEnum):
     NC_TOOL_RADIUS = "NC-TOOL-RADIUS"
     NC_EXPRESSION = "NC-EXPRESSION"
     NC_PARAM_UNSET = "NC-PARAM-UNSET"
+    NC_FRAME = "NC-FRAME"
+    NC_CALL = "NC-CALL"
+    NC_CYCLE = "NC-CYCLE"
     # --- compensation engine ---------------------------------------------------------------------
     TRC_CONTOUR_VIOLATION = "TRC-CONTOUR-VIOLATION"
     TRC_SIDE_CHANGE = "TRC-SIDE-CHANGE"
@@ -113,6 +119,13 @@ class Code(enum.StrEnum):
     HH_DEP_R0 = "HH-DEP-R0"
     HH_PGM_CALL = "HH-PGM-CALL"
     HH_TOOL_TABLE = "HH-TOOL-TABLE"
+    HH_Q_UNDEFINED = "HH-Q-UNDEFINED"
+    HH_Q_MATH = "HH-Q-MATH"
+    HH_LABEL = "HH-LABEL"
+    HH_LOOP_LIMIT = "HH-LOOP-LIMIT"
+    HH_PGM_MISSING = "HH-PGM-MISSING"
+    HH_FRAME = "HH-FRAME"
+    HH_NOT_MODELLED = "HH-NOT-MODELLED"
     # --- LinuxCNC --------------------------------------------------------------------------------
     LCNC_TOOL_TABLE = "LCNC-TOOL-TABLE"
     LCNC_TOOL_NOT_FOUND = "LCNC-TOOL-NOT-FOUND"
@@ -133,6 +146,12 @@ class Code(enum.StrEnum):
     LCNC_EXPRESSION = "LCNC-EXPRESSION"
     LCNC_PARAMETER = "LCNC-PARAMETER"
     LCNC_OWORD = "LCNC-OWORD"
+    LCNC_COMP_ACTIVE = "LCNC-COMP-ACTIVE"
+    LCNC_CYCLE = "LCNC-CYCLE"
+    LCNC_OFFSET = "LCNC-OFFSET"
+    LCNC_WORDS = "LCNC-WORDS"
+    LCNC_MESSAGE = "LCNC-MESSAGE"
+    LCNC_ABORT = "LCNC-ABORT"
     # --- toolholder ------------------------------------------------------------------------------
     TH_VALUE = "TH-VALUE"
     TH_CHAIN_OPEN = "TH-CHAIN-OPEN"
@@ -196,6 +215,11 @@ MEANING: dict[Code, str] = {
     Code.ALARM_10762: "too many blocks without plane motion in a row (MD20250)",
     Code.ALARM_10763: "warning: a block was omitted by bottleneck detection (CDON); the program continues",
     Code.ALARM_12550: "name not defined: a variable used without (or before) its DEF, or an unknown function",
+    Code.ALARM_12640: "invalid nesting of control structures (IF/ELSE/ENDIF, WHILE, FOR, REPEAT/UNTIL, LOOP do not "
+    "pair)",
+    Code.ALARM_14011: "a called subprogram does not exist: no NAME.spf/.mpf in the folders searched (named in the "
+    "message)",
+    Code.ALARM_14080: "jump destination not found (GOTOF/GOTOB/GOTO, REPEAT labels)",
     Code.ALARM_14153: "toolholder: kinematic type other than T, P or M",
     Code.ALARM_14500: "DEF after the first executable block (definitions belong in the program header)",
     Code.NC_SYNTAX: "the program text cannot be read (bad word, number, bracket or comment)",
@@ -221,6 +245,13 @@ MEANING: dict[Code, str] = {
     Code.NC_EXPRESSION: "an expression cannot be evaluated: division by zero, a function argument outside its "
     "domain (SQRT of a negative number, ASIN(2), TAN(90)), a result that is not finite",
     Code.NC_PARAM_UNSET: "an R-parameter is read before the program sets it (its value on the machine is unknown)",
+    Code.NC_FRAME: "a frame or zero offset trcopt cannot plan: a scale factor 0, a rotation that tilts the working "
+    "plane, a circle under a non-uniform scale, or machine coordinates / a change of zero offset without the "
+    "zero-offset file",
+    Code.NC_CALL: "a subprogram call that cannot run: too many arguments, more than 16 program levels, a misplaced "
+    "PROC",
+    Code.NC_CYCLE: "a drilling cycle (CYCLE81-83) with missing or inconsistent values, or a parameter trcopt does "
+    "not model",
     Code.TRC_CONTOUR_VIOLATION: "warning: a CDOF offset runs against its programmed element (possible contour "
     "violation); --strict makes it alarm 10751",
     Code.TRC_SIDE_CHANGE: "compensation side changed (G41↔G42) without deselecting first",
@@ -254,8 +285,15 @@ MEANING: dict[Code, str] = {
     Code.HH_APPR_RAPID: "warning: the APPR leg PS→PH is traversed at FMAX (the last positioning was FMAX)",
     Code.HH_APPR_R0: "warning: APPR with R0: the lead is computed with radius 0 on side RR (iTNC 530)",
     Code.HH_DEP_R0: "warning: DEP without radius compensation: computed with radius 0 on side RR",
-    Code.HH_PGM_CALL: "warning: PGM CALL: the called program is not executed; compensation is cancelled there",
+    Code.HH_PGM_CALL: "warning: CALL PGM while RL/RR is active: compensation is cancelled at the call",
     Code.HH_TOOL_TABLE: "warning: the tool table beside the program could not be read and is ignored",
+    Code.HH_Q_UNDEFINED: "a Q parameter is read before a value was assigned to it",
+    Code.HH_Q_MATH: "Q-parameter arithmetic impossible: division by zero, root of a negative number, result out of range",
+    Code.HH_LABEL: "jump or call to a label that is not in the program, a label defined twice, LBL 0 outside a call",
+    Code.HH_LOOP_LIMIT: "the program does not end within the executed-block limit, or calls nest too deep",
+    Code.HH_PGM_MISSING: "CALL PGM: the called program file is not beside the calling program",
+    Code.HH_FRAME: "a coordinate transformation cycle (CYCL DEF 7/8/10/11/26) is invalid: scale 0, degenerate plane",
+    Code.HH_NOT_MODELLED: "a word that changes motion or control flow and is not modelled by trcopt",
     Code.LCNC_TOOL_TABLE: "note: which tool table was read, in which unit",
     Code.LCNC_TOOL_NOT_FOUND: "the requested tool is not in the tool table",
     Code.LCNC_ARC_RADIUS: "an R-format arc whose radius cannot reach its end point",
@@ -277,6 +315,15 @@ MEANING: dict[Code, str] = {
     Code.LCNC_PARAMETER: "a parameter LinuxCNC cannot read: a named parameter never set, a number out of range",
     Code.LCNC_OWORD: "O-word control flow: an unknown or unclosed subroutine, a label without its if/while/do, "
     "a duplicate label, too many call levels",
+    Code.LCNC_COMP_ACTIVE: "a block LinuxCNC refuses while cutter radius compensation is on: a change of work "
+    "offset, G92, tool, tool length offset, plane or units, G53, G28/G30, a canned cycle",
+    Code.LCNC_CYCLE: "a canned cycle LinuxCNC rejects: R or the depth missing, R below the bottom, a missing P/Q/I/J/K, "
+    "zero repeats, the spindle not turning",
+    Code.LCNC_OFFSET: "G10/G92/G53 LinuxCNC rejects: a P or L out of range, axes missing, G53 incremental or without G0/G1",
+    Code.LCNC_WORDS: "a word combination LinuxCNC rejects: two G or M codes of one modal group, axis words without a "
+    "G code using them, a D, H, L, P, Q or R word nothing uses, a feed move at zero feed",
+    Code.LCNC_MESSAGE: "note: a (MSG,…), (DEBUG,…) or (PRINT,…) comment, with its parameters substituted",
+    Code.LCNC_ABORT: "the program aborts with its (ABORT,…) message",
     Code.TH_VALUE: "a $TC_CARR value is invalid",
     Code.TH_CHAIN_OPEN: "warning: the toolholder's kinematic chain does not close",
     Code.TH_IGNORED_L1: "warning: l1 is ignored for a type P toolholder",

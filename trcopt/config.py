@@ -26,7 +26,35 @@ __all__ = [
     "DEFAULT_MACHINE",
     "load_machine",
     "machine_from_dict",
+    "read_toml",
+    "file_beside",
 ]
+
+
+def read_toml(path: str | Path, what: str) -> dict[str, Any]:
+    """The table of the TOML file ``path``; ``what`` names the file's kind in errors ("tool table",
+    "machine file", …). Unreadable, non-UTF-8 or invalid TOML: :class:`ConfigError` naming the file."""
+    p = Path(path)
+    try:
+        return tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"cannot read {what} {p}: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{p}: not a text file (a {what} is UTF-8 TOML): byte {exc.start}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
+
+
+def file_beside(program: str, suffix: str, shared: str) -> Path | None:
+    """The settings file that belongs to a program file: ``<stem><suffix>`` beside it, else
+    ``shared`` in its folder; None when there is none (or the program is not a file)."""
+    p = Path(program)
+    if not p.name or not p.exists():
+        return None
+    for cand in (p.with_name(p.stem + suffix), p.with_name(shared)):
+        if cand.is_file():
+            return cand
+    return None
 
 
 @dataclass(frozen=True, slots=True)
@@ -275,13 +303,4 @@ def machine_from_dict(data: dict[str, Any], source: str = "<machine>") -> Machin
 
 def load_machine(path: str | Path) -> Machine:
     """Load a machine TOML file (design.md §3.1b)."""
-    p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ConfigError(f"cannot read machine file {p}: {exc.strerror}") from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{p}: not a text file (a machine file is UTF-8 TOML): byte {exc.start}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{p}: invalid TOML: {exc}") from None
-    return machine_from_dict(data, str(p))
+    return machine_from_dict(read_toml(path, "machine file"), str(path))

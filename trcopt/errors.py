@@ -45,6 +45,12 @@ class SourceSpan:
     column: int = 0
     block: str | None = None
     end_column: int | None = None
+    #: a block in machine coordinates (SINUMERIK G53/G153/SUPA): the programmed machine position of
+    #: each axis (None: not programmed); the G-code writer writes the block as such
+    machine: tuple[float | None, float | None, float | None] | None = None
+    #: how many times the block ran before (loops, jumps, repetitions, subprogram calls; 0 the first
+    #: time): tells the runs of one block apart
+    run: int = 0
 
     def label(self) -> str:
         """``file:line:col`` as compilers print it (just ``file`` when there is no position)."""
@@ -117,6 +123,14 @@ class TrcoptError(Exception):
 
     def to_diagnostic(self) -> Diagnostic:
         return Diagnostic(Severity.ERROR, self.code, self.message, self.span or SourceSpan())
+
+    def format(self, file: str | None = None) -> str:
+        """The error as a diagnostic line, ``file:line:col: error CODE (N…): message``; an error
+        without a position in a file is placed at ``file`` (the file it concerns, else ``trcopt``)."""
+        span = self.span
+        if span is None or (not span.line and span.file == "<program>"):
+            span = SourceSpan(file or "trcopt")
+        return Diagnostic(Severity.ERROR, self.code, self.message, span).format()
 
 
 class NcSyntaxError(TrcoptError, ValueError):

@@ -166,14 +166,16 @@ class ToleranceKind(enum.Enum):
 
 
 class ToolUnit(enum.Enum):
-    """Length unit of a tool-table file."""
+    """Length unit of a tool-table file (``program``: the unit the program sets with G20/G21)."""
 
+    PROGRAM = "program"
     INCH = "inch"
     MM = "mm"
 
     @property
     def mm(self) -> float:
-        """Millimetres per unit."""
+        """Millimetres per unit (``program``: 1, the values are kept as written until the
+        program's unit is known)."""
         return 25.4 if self is ToolUnit.INCH else 1.0
 
 

@@ -19,6 +19,7 @@ from trcopt.modes import ApprRadius, CornerObjective, ToleranceKind, ToolUnit, p
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
+from trcopt.progress import stage
 from trcopt.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -57,7 +58,9 @@ class PlanOptions:
         verification family as an error (``ok`` False, exit code 1).
     tool_table, tool_unit:
         A tool-table file (LinuxCNC ``.tbl`` for rs274 with its length unit, TOML for
-        heidenhain); by default the readers look beside the program.
+        heidenhain and siemens); by default the readers look beside the program.
+    zero_offsets:
+        SINUMERIK settable zero offsets G54… (TOML); by default ``<program>.offsets.toml`` beside it.
     appr_radius:
         Heidenhain APPR/DEP CT/LCT: ``R`` is the radius of the tool-centre arc (``centre``, the
         default) or of the contour arc (``contour``); spec heidenhain_trc.md R9.
@@ -92,7 +95,8 @@ class PlanOptions:
     verify: bool = True
     strict: bool = False
     tool_table: str | None = None
-    tool_unit: ToolUnit = ToolUnit.INCH
+    zero_offsets: str | None = None
+    tool_unit: ToolUnit = ToolUnit.PROGRAM
     appr_radius: ApprRadius = ApprRadius.CENTRE
     corners: str = corner_strategies.PROGRAM
     tolerance_mm: float = 0.01
@@ -238,16 +242,18 @@ def plan(
     opts = options or PlanOptions()
     settings = opts.settings if not opts.strict else opts.settings.with_(strict=True)
     reader = controllers.detect(file, source) if opts.dialect == AUTO else _controller(opts.dialect, "dialect")
-    nc = controllers.read_program(
-        source,
-        file=file,
-        dialect=reader.name,
-        tolerances=settings.tolerances,
-        max_disc=settings.cutcom_max_disc,
-        tool_table=opts.tool_table,
-        tool_unit=opts.tool_unit,
-        appr_radius=opts.appr_radius.value,
-    )
+    with stage("reading the program"):
+        nc = controllers.read_program(
+            source,
+            file=file,
+            dialect=reader.name,
+            tolerances=settings.tolerances,
+            max_disc=settings.cutcom_max_disc,
+            tool_table=opts.tool_table,
+            zero_offsets=opts.zero_offsets,
+            tool_unit=opts.tool_unit,
+            appr_radius=opts.appr_radius.value,
+        )
     diagnostics = list(nc.diagnostics)
     tol = settings.tolerances.coincidence_mm
     front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
@@ -257,7 +263,8 @@ def plan(
     front_end_ok = front_end_ok and not any(d.severity is Severity.ERROR for d in trc_diags)
     # the compensation semantics: the reader's controller unless another profile is asked for
     profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
-    toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
+    with stage("compensating"):
+        toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, reader.dialect, nc, programmed, toolpath, diagnostics)
@@ -267,16 +274,18 @@ def plan(
     if opts.verify:
         from trcopt.verify.plan import verify_plan
 
-        result.verification = verify_plan(
-            programmed, toolpath, moves, settings, near_tangent_rad=profile.near_tangent_rad
-        )
+        with stage("verifying"):
+            result.verification = verify_plan(
+                programmed, toolpath, moves, settings, near_tangent_rad=profile.near_tangent_rad
+            )
         result.extra["verification"] = result.verification.to_json()
         # a failed family is a warning (an error under strict) at its worst block
         result.diagnostics.extend(result.verification.diagnostics(strict=opts.strict))
         result.diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     exact_toolpath = toolpath
     if toolpath and result.ok:
-        exact_toolpath, toolpath = _corners(result, moves, opts)
+        with stage(f"corners ({opts.corners})"):
+            exact_toolpath, toolpath = _corners(result, moves, opts)
         result.toolpath = toolpath
     if opts.timing and toolpath:
         before_timing = len(result.diagnostics)
@@ -385,7 +394,8 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
     except ImportError:  # the timing stage is optional at this layer
         return
     try:
-        acceleration_limited = time_parameterize(result.toolpath, machine)
+        with stage("timing"):
+            acceleration_limited = time_parameterize(result.toolpath, machine)
     except TrcoptError as exc:
         _timing_warning(result, exc, "timing not computed")
         return
@@ -407,7 +417,8 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
         from trcopt.timing.jerk import jerk_limited
 
         try:
-            jerk_limited_feed = jerk_limited(result.toolpath, machine, base=acceleration_limited, workers=workers)
+            with stage("jerk-limited timing"):
+                jerk_limited_feed = jerk_limited(result.toolpath, machine, base=acceleration_limited, workers=workers)
         except TrcoptError as exc:
             _timing_warning(result, exc, "jerk-limited feed not computed (the acceleration-limited feed is kept)")
             return

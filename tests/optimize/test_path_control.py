@@ -98,8 +98,8 @@ def test_heidenhain_cycle_32_and_m90() -> None:
     ]
     (warn,) = nc.diagnostics
     assert warn.code == "NC-PATH-CONTROL" and warn.span.line == 8 and "M90" in warn.message
-    err = read("0 BEGIN PGM T MM\n1 CYCL DEF 7.0 DATUM SHIFT\n2 END PGM T MM\n", "heidenhain").diagnostics[0]
-    assert err.severity.value == "error" and err.span.line == 2 and "not supported" in err.message
+    err = read("0 BEGIN PGM T MM\n1 CYCL DEF 1.0 PECKING\n2 END PGM T MM\n", "heidenhain").diagnostics[0]
+    assert err.severity.value == "error" and err.span.line == 2 and "not modelled" in err.message
 
 
 # ------------------------------------------------------------------------------ blends, measured

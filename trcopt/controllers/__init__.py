@@ -95,8 +95,9 @@ def read_program(
     tolerances: Tolerances | None = None,
     max_disc: int = 50,
     tool_table: str | os.PathLike[str] | None = None,
-    tool_unit: str | ToolUnit = ToolUnit.INCH,
+    tool_unit: str | ToolUnit = ToolUnit.PROGRAM,
     appr_radius: str = "centre",
+    zero_offsets: str | os.PathLike[str] | None = None,
 ) -> NcProgram:
     """Read a part program into canonical moves with its controller's reader.
 
@@ -121,12 +122,14 @@ def read_program(
     max_disc:
         Upper limit of DISC (MD20220, default 50).
     tool_table, tool_unit:
-        A tool-table file in the controller's format (LinuxCNC ``.tbl`` in ``tool_unit``, inch by
-        default — LinuxCNC's default machine unit; Heidenhain TOML). SINUMERIK programs carry their
+        A tool-table file in the controller's format (LinuxCNC ``.tbl`` in ``tool_unit``, by
+        default the program's G20/G21 unit; Heidenhain TOML). SINUMERIK programs carry their
         tool data as ``$TC_DP`` assignments. An unreadable or invalid table raises
         :class:`~trcopt.errors.ConfigError`.
     appr_radius:
         Heidenhain APPR/DEP CT/LCT radius: ``"centre"`` (tool-centre arc, default) or ``"contour"``.
+    zero_offsets:
+        SINUMERIK settable zero offsets (TOML, G54…); default: ``<program>.offsets.toml`` beside it.
     """
     if isinstance(source, os.PathLike):
         path = os.fspath(source)
@@ -145,6 +148,7 @@ def read_program(
         tool_table=tool_table,
         tool_unit=parse_enum(ToolUnit, tool_unit, "tool unit"),
         appr_radius=appr_radius,
+        zero_offsets=zero_offsets,
     )
     program = controller.read(text, options)
     # every number a move carries is finite and within trcopt.nc.limits before any stage uses it

@@ -73,6 +73,8 @@ class ReadOptions:
     appr_radius:
         Heidenhain APPR/DEP CT/LCT radius reading: ``"centre"`` (the tool-centre arc's radius, the
         default) or ``"contour"`` (spec heidenhain_trc.md R9).
+    zero_offsets:
+        A TOML file of settable zero offsets (SINUMERIK G54…; ``None``: the one beside the program).
     """
 
     file: str = "<program>"
@@ -80,8 +82,9 @@ class ReadOptions:
     max_disc: int = 50
     tools: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None = None
     tool_table: str | os.PathLike[str] | None = None
-    tool_unit: ToolUnit = ToolUnit.INCH
+    tool_unit: ToolUnit = ToolUnit.PROGRAM
     appr_radius: str = "centre"
+    zero_offsets: str | os.PathLike[str] | None = None
 
 
 class ModalState:

@@ -73,6 +73,7 @@ class CompState:
     collision: CollisionMode = CollisionMode.CDOF
     strategy: ApproachStrategy = ApproachStrategy.G460
     side_programmed: bool = False  # G40/G41/G42 written in this very block
+    inch: bool = False  # the program's length unit is inch here (LinuxCNC's unit-dependent tolerances)
 
     @property
     def effective_side(self) -> Side:

@@ -14,7 +14,7 @@ import codecs
 import re
 
 from trcopt.codes import Code
-from trcopt.errors import TrcoptError
+from trcopt.errors import SourceSpan, TrcoptError
 
 __all__ = ["decode_program", "program_lines", "MAX_CONTROL_FRACTION"]
 
@@ -38,6 +38,23 @@ def program_lines(text: str) -> list[str]:
     return lines
 
 
+_BLOCK_NUMBER = re.compile(rb"[ \t]*(N[0-9]+|[0-9]+)(?=[ \t]|$)", re.IGNORECASE)
+
+
+def _byte_place(raw: bytes, offset: int, file: str) -> SourceSpan:
+    """The place of byte ``offset`` as an editor shows it: line (LF, CR LF or CR ends a line),
+    column (bytes from the line start, 1-based) and the line's block number (``N…`` or a
+    Heidenhain number) when it starts with one."""
+    head = raw[:offset]
+    ends = [m.end() for m in re.finditer(rb"\r\n|\r(?!\n)|\n", head)]
+    start = ends[-1] if ends else 0
+    line_end = re.search(rb"\r|\n", raw[start:])
+    text = raw[start : start + line_end.start()] if line_end else raw[start:]
+    m = _BLOCK_NUMBER.match(text)
+    block = m.group(1).decode("latin-1").upper() if m and m.end(1) <= offset - start else None
+    return SourceSpan(file, len(ends) + 1, offset - start + 1, block)
+
+
 def decode_program(raw: bytes, file: str) -> str:
     """The text of a program file's bytes ``raw``.
 
@@ -58,10 +75,12 @@ def decode_program(raw: bytes, file: str) -> str:
         try:
             return raw.decode("utf-16")
         except UnicodeDecodeError:
-            raise TrcoptError(f"{file}: not a text file (invalid UTF-16)", code=Code.NC_NOT_TEXT) from None
+            raise TrcoptError("not a text file (invalid UTF-16)", code=Code.NC_NOT_TEXT, span=SourceSpan(file)) from None
     nul = raw.find(b"\x00")
     if nul >= 0:
-        raise TrcoptError(f"{file}: not a text file (NUL byte at offset {nul})", code=Code.NC_NOT_TEXT)
+        raise TrcoptError(
+            f"not a text file (NUL byte at offset {nul})", code=Code.NC_NOT_TEXT, span=_byte_place(raw, nul, file)
+        )
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -69,7 +88,8 @@ def decode_program(raw: bytes, file: str) -> str:
     controls = sum(1 for b in raw if (b < 32 or b == 127) and b not in _TEXT_CONTROLS)
     if raw and controls / len(raw) > MAX_CONTROL_FRACTION:
         raise TrcoptError(
-            f"{file}: not a text file ({controls} of {len(raw)} bytes are control characters)",
+            f"not a text file ({controls} of {len(raw)} bytes are control characters)",
             code=Code.NC_NOT_TEXT,
+            span=SourceSpan(file),
         )
     return raw.decode("latin-1")

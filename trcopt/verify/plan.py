@@ -336,9 +336,13 @@ def verify_plan(
             side = seg.side.sign
             # the distance error along the element and the side at its start: the larger of the
             # two (at the start they measure the same error; a sum would count it twice)
+            resid = [max(carrier_residual(g, pg, R), abs(_signed_offset(seg, pg) - side * R)) for pg in cands]
+            # a block run more than once (subprogram, repeat, transformed frames) has one element
+            # per run: among the equally good, the run whose element starts nearest the tool
+            least = min(resid)
             best = min(
-                cands,
-                key=lambda pg: max(carrier_residual(g, pg, R), abs(_signed_offset(seg, pg) - side * R)),
+                (pg for pg, r in zip(cands, resid, strict=True) if r <= least + 1e-9),
+                key=lambda pg: math.dist(pg.start[:2], g.point2(0.0)),
             )
             fam["radius"].add(max(carrier_residual(g, best, R), abs(_signed_offset(seg, best) - side * R)), k, seg)
             p0 = g.point2(0.0)

@@ -204,6 +204,12 @@ def test_an_endless_loop_stops_at_the_stated_limit(monkeypatch: pytest.MonkeyPat
     loops = "F10\n#2=0\no2 repeat [3]\n#1=0\no1 while [#1 LT 40]\n#1=[#1+1]\no1 endwhile\n#2=[#2+#1]\no2 endrepeat\n"
     ends = _ends(loops + "G1 X#2\n")
     assert ends == [(120.0, 0.0, 0.0)]
+    # a finished loop whose end is met again (a duplicated endrepeat) restarts without end: the
+    # limit on all jumps back stops it
+    monkeypatch.setattr(ngc_flow, "TOTAL_JUMP_LIMIT", 300)
+    again = "F10\no3 repeat [1]\nG91 G1 X1\no3 endrepeat\nG90 G1 Y1\no3 endrepeat\nM2\n"
+    err = read_rs274(again, file="x.ngc").diagnostics[0]
+    assert err.code == "NC-LOOP-LIMIT" and "300 jumps" in err.message and err.span.line in (4, 6)
 
 
 @pytest.mark.parametrize(

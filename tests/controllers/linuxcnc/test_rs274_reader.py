@@ -55,9 +55,10 @@ def test_reader_units_incremental_and_arcs() -> None:
     ("text", "fragment"),
     [
         ("O1000\nM99\n", "Fanuc-style O-word"),
-        ("G1 X#<_x> F1\n", "#<_x>"),
-        ("G92 X0\n", "G92"),
+        ("G41.1 D1 G1 X10 F1\nG1 X#<_x>\n", "#<_x>"),  # the position under compensation
+        ("G76 P1 Z-1 I1 J1 K1\n", "G76"),
         ("G93\n", "G93"),
+        ("M98 P100\n", "M98"),
     ],
 )
 def test_unsupported_features_are_named(text: str, fragment: str) -> None:
@@ -77,11 +78,16 @@ def test_tool_table_d_word_and_g41_1_diameter(tmp_path) -> None:  # type: ignore
     src.write_text(
         "G21 F100\nT1 M6\nG41 G1 X20 Y0\nG1 X40\nG40 G1 X50\nG42.1 D4 G1 X60 Y-20\nG40 G1 X70\nM2\n"
     )
-    prog = read_program(src, dialect="rs274")
+    prog = read_program(src, dialect="rs274", tool_unit="inch")
     comps = [m.comp for m in prog.moves if m.kind is MoveKind.LINE]
     assert comps[0].side is Side.LEFT and comps[0].radius == pytest.approx(3.175)  # T1, inch table
     assert comps[3].side is Side.RIGHT and comps[3].radius == pytest.approx(2.0)  # D = diameter
     assert any(d.code == "LCNC-TOOL-TABLE" and "inch" in d.message for d in prog.diagnostics)
+    # by default the table is in the program's unit: D0.25 in a G21 program is 0.25 mm
+    prog = read_program(src, dialect="rs274")
+    comps = [m.comp for m in prog.moves if m.kind is MoveKind.LINE]
+    assert comps[0].radius == pytest.approx(0.125)
+    assert any(d.code == "LCNC-TOOL-TABLE" and "program's unit" in d.message for d in prog.diagnostics)
 
 
 def _square(extra: str = "") -> str:
@@ -132,7 +138,7 @@ def test_negative_diameter_swaps_the_side() -> None:
     [
         ("G21 F100\nG41.1 D10 G1 X4\nX20\nG40 X30\nM2\n", "LCNC-ENTRY-TOO-SHORT"),
         ("G21 F100\nG41.1 D10 G1 X20\nG41.1 D10 X30\nM2\n", "LCNC-COMP-ALREADY-ON"),
-        ("G21 F100\nG41.1 D10 G1 X20\nG19 X30\nM2\n", "LCNC-YZ-PLANE"),
+        ("G21 F100\nG41.1 D10 G1 X20\nG19 X30\nM2\n", "LCNC-COMP-ACTIVE"),  # a plane change
         ("G21 F100\nG19 G41.1 D10 G1 Y20\nM2\n", "LCNC-YZ-PLANE"),
         (
             "G21 F100\nG41.1 D10 G1 X20\nG3 X30 Y10 J10\nG3 X34 Y10 I2\nG40 G1 X40\nM2\n",

@@ -274,9 +274,12 @@ def test_example5_kont_and_tool_without_data():
     assert m["N80"].comp.approach is ApproachMode.KONT
     assert m["N90"].kind is MoveKind.RAPID and m["N90"].end == (-20.0, 100.0, -5.0)
     assert m["N100"].end == (200.0, 100.0, -5.0) and "M30" in m["N100"].actions
-    # without any tool data, T1 selects an edge without data: tool not active
-    plain = by_block(read_program(EX5))
-    assert plain["N30"].comp.tool_active is False
+    # without any tool data, G41 with T1 D1 is alarm 10750 naming the edge and where it was looked for
+    plain = read_program(EX5)
+    err = plain.diagnostics[-1]
+    assert err.alarm == 10750 and err.span.block == "N30"
+    assert "T1 D1" in err.message and "no tool table" in err.message and "$TC_DP" in err.message
+    assert "N30" not in by_block(plain)
 
 
 def test_example6_bottleneck_program():

@@ -313,7 +313,7 @@ def test_syntax_error_column():
 def test_unknown_word_warns_and_is_kept():
     prog = read("N10 G1 X1 F100 G64 SOFT G54")
     warns = [d for d in prog.diagnostics if d.code == "NC-UNSUPPORTED-WORD"]
-    assert [w.span.column for w in warns] == [20, 25]  # G64 is a path-control mode trcopt models
+    assert [w.span.column for w in warns] == [20]  # G64 (path control) and G54 (zero offset) are modelled
     assert all(w.severity is Severity.WARNING for w in warns)
     assert "SOFT" in warns[0].message
     assert prog.moves[0].control.word == "G64"
@@ -322,7 +322,7 @@ def test_unknown_word_warns_and_is_kept():
 
 
 def test_geometry_changing_words_stop_the_program():
-    assert error_of("TRANS X10\nM30")[1].code == "NC-UNSUPPORTED"
+    assert error_of("CTRANS(X,10)\nM30")[1].code == "NC-UNSUPPORTED"
     assert error_of("G1 X=$AA_IW[X]+2 F100\nM30")[1].code == "NC-UNSUPPORTED-EXPR"
     assert error_of("G33 Z-10 K1\nM30")[1].code == "NC-UNSUPPORTED"
 

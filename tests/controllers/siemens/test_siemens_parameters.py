@@ -249,6 +249,6 @@ def test_nothing_after_an_error_is_planned():
     assert all(seg.span.line < 4 for seg in r.toolpath)
 
 
-def test_program_flow_stays_refused():
+def test_a_jump_to_a_missing_label_is_alarm_14080():
     err = error_of("R1=1\nGOTOF END\nM30")
-    assert err.code == "NC-UNSUPPORTED" and "jump" in err.message
+    assert err.alarm == 14080 and "END" in err.message and err.span.line == 2

@@ -62,7 +62,7 @@ class LeadBlocks(ReaderState):
         feed, rapid = self._feed_of(words)
         polar = kind.startswith("P")
         target = self._polar_target(words, line=True) if polar else self._target(words)
-        side = {"RL": Side.LEFT, "RR": Side.RIGHT, "R0": Side.OFF}[comp]
+        side = Side.OFF if comp == "R0" else self._side_of(comp)
         if side is not Side.OFF and self.last_on_side not in (Side.OFF, side):
             raise BlockError(
                 Code.HH_TRC_SIDE_SWITCH,
@@ -97,6 +97,7 @@ class LeadBlocks(ReaderState):
             "F" in words,
             span,
             self._actions(words),
+            self._length(1.0, f"APPR {kind}"),
         )
         self.side = side
         if side is not Side.OFF:
@@ -114,13 +115,13 @@ class LeadBlocks(ReaderState):
         v, ref = a.words, self.opts.appr_radius
         try:
             if a.kind == "LT":
-                lead = sar.appr_lt(ps2, pa2, t, s, a.r, v["LEN"] * self.unit)
+                lead = sar.appr_lt(ps2, pa2, t, s, a.r, v["LEN"] * a.scale)
             elif a.kind == "LN":
-                lead = sar.appr_ln(ps2, pa2, t, s, a.r, v["LEN"] * self.unit)
+                lead = sar.appr_ln(ps2, pa2, t, s, a.r, v["LEN"] * a.scale)
             elif a.kind == "CT":
-                lead = sar.appr_ct(ps2, pa2, t, s, a.r, v["CCA"], v["R"] * self.unit, ref)
+                lead = sar.appr_ct(ps2, pa2, t, s, a.r, v["CCA"], v["R"] * a.scale, ref)
             else:
-                lead = sar.appr_lct(ps2, pa2, t, s, a.r, v["R"] * self.unit, ref)
+                lead = sar.appr_lct(ps2, pa2, t, s, a.r, v["R"] * a.scale, ref)
         except sar.LeadError as exc:
             raise BlockError(exc.code, exc.message, span=a.span) from None
         if a.feed_before is None and a.kind != "LCT":
@@ -200,13 +201,14 @@ class LeadBlocks(ReaderState):
                 raise BlockError(Code.HH_SYNTAX, f"DEP {kind} needs {name}")
         pe = self._uvw(self.pos)
         pe2, t, ref = (pe[0], pe[1]), last.end_tangent(), self.opts.appr_radius
+        scale = self._length(1.0, f"DEP {kind}")
         w_end = pe[2]
         if kind == "LT":
-            lead = sar.dep_lt(pe2, t, s, r, vals["LEN"] * self.unit)
+            lead = sar.dep_lt(pe2, t, s, r, vals["LEN"] * scale)
         elif kind == "LN":
-            lead = sar.dep_ln(pe2, t, s, r, vals["LEN"] * self.unit)
+            lead = sar.dep_ln(pe2, t, s, r, vals["LEN"] * scale)
         elif kind == "CT":
-            lead = sar.dep_ct(pe2, t, s, r, vals["CCA"], vals["R"] * self.unit, ref)
+            lead = sar.dep_ct(pe2, t, s, r, vals["CCA"], vals["R"] * scale, ref)
         else:
             pn = self._uvw(
                 self._polar_target(words, line=True)
@@ -214,7 +216,7 @@ class LeadBlocks(ReaderState):
                 else self._target(words)
             )
             w_end = pn[2]
-            lead = sar.dep_lct(pe2, t, s, r, (pn[0], pn[1]), vals["R"] * self.unit, ref)
+            lead = sar.dep_lct(pe2, t, s, r, (pn[0], pn[1]), vals["R"] * scale, ref)
         block_feed = None if rapid else feed
         for k, piece in enumerate(lead.pieces):
             eside = side if piece.compensated else Side.OFF

@@ -58,7 +58,7 @@ class MotionBlocks(LeadBlocks):
         side = self.side
         side_programmed = comp in ("RL", "RR", "R0")
         if comp in ("RL", "RR"):
-            new = Side.LEFT if comp == "RL" else Side.RIGHT
+            new = self._side_of(comp)
             if self.side is Side.OFF and self.last_on_side not in (Side.OFF, new):
                 raise BlockError(
                     Code.HH_TRC_SIDE_SWITCH,
@@ -159,6 +159,12 @@ class MotionBlocks(LeadBlocks):
         self.side = side
 
     def _paraxial(self, words: dict[str, Word], comp: str, target: Vec3) -> Vec3:
+        if not self.frame.rigid_axes(self.plane):
+            raise BlockError(
+                Code.HH_NOT_MODELLED,
+                f"paraxial {comp} under a rotation or scaling cycle is not modelled",
+                words[comp].column,
+            )
         u, v, _ = self.plane.axes
         plane_words = [k for k in words if k in COORDINATE_WORDS and AXIS_INDEX[k[-1]] in (u, v)]
         if len(plane_words) > 1:
@@ -182,21 +188,25 @@ class MotionBlocks(LeadBlocks):
         if "DR+" in words or "DR-" in words:
             self.direction = "DR+" in words
         elem.kind = MoveKind.ARC
+        self._length(1.0, f"a {st} arc")  # circles only under an even scaling of the plane
+        mirrored = self._mirrored()
         if st in ("C", "CP"):
             if self.pole is None:
                 raise BlockError(Code.HH_NO_POLE, f"{st} needs a circle centre (CC)")
             if self.direction is None:
                 raise BlockError(Code.HH_SYNTAX, f"{st} needs a direction of rotation DR+ or DR-")
             tol = max(self.tol.arc_end_radius_mm, 1e-6)
-            circle_about(elem.start, elem.end, self.pole, tol)
-            elem.center, elem.ccw = self.pole, self.direction
+            pole = self._pole_work()
+            circle_about(elem.start, elem.end, pole, tol)
+            elem.center, elem.ccw = pole, self.direction != mirrored
             if st == "CP" and "IPA" in words and abs(number(words["IPA"])) >= 360.0 - 1e-9:
                 elem.turns = max(0, int(abs(number(words["IPA"])) // 360.0) - 1)
         elif st == "CR":
             if "R" not in words or not ("DR+" in words or "DR-" in words):
                 raise BlockError(Code.HH_SYNTAX, "CR needs R and DR+ or DR-")
-            elem.center = circle_by_radius(elem.start, elem.end, number(words["R"]) * self.unit, "DR+" in words)
-            elem.ccw = "DR+" in words
+            ccw = ("DR+" in words) != mirrored
+            elem.center = circle_by_radius(elem.start, elem.end, self._length(number(words["R"])), ccw)
+            elem.ccw = ccw
         else:  # CT, CTP
             prev = self.elems[-1] if self.elems else None
             if (
@@ -223,12 +233,12 @@ class MotionBlocks(LeadBlocks):
         if blk.statement == "RND":
             if "R" not in words:
                 raise BlockError(Code.HH_SYNTAX, "RND needs a radius R")
-            value = number(words["R"]) * self.unit
+            value = self._length(number(words["R"]), "RND")
         else:
             bare = [w for w in blk.words if w.address == ""]
             if len(bare) != 1:
                 raise BlockError(Code.HH_SYNTAX, "CHF needs one chamfer length")
-            value = float(bare[0].text) * self.unit
+            value = self._length(float(bare[0].text) if bare[0].value is None else bare[0].value, "CHF")
         feed = number(words["F"]) * self.unit / 60.0 if "F" in words else None
         self.corner = (blk.statement, value, feed, span)
 

@@ -14,20 +14,22 @@ semantics mapped onto the engine's modes (see :mod:`trcopt.controllers.heidenhai
 
 Block labels are the TNC block numbers (``"15"``). Coordinates absolute mm, feeds mm/s.
 
-The reader is one class built in layers: :class:`~.state.ReaderState` (state, word access),
-:class:`~.leads.LeadBlocks` (APPR/DEP), :class:`~.motion.MotionBlocks` (contour elements, RND/CHF)
-and :class:`HeidenhainReader` here (the block loop, the statements without motion, TOOL DEF/CALL,
-the radius check and the moves).
+The reader is one class built in layers: :class:`~.state.ReaderState` (state, word access,
+frames), :class:`~.leads.LeadBlocks` (APPR/DEP), :class:`~.motion.MotionBlocks` (contour elements,
+RND/CHF), :class:`~.flow.FlowBlocks` (the run: Q parameters, labels, subprograms, repeats, jumps,
+called programs) and :class:`HeidenhainReader` here (the statements without motion, TOOL DEF/CALL,
+the cycles, the radius check and the moves). Coordinate transformation cycles are
+:mod:`~trcopt.controllers.heidenhain.frames`.
 """
 
 from __future__ import annotations
 
 from trcopt.codes import Code
 from trcopt.config import Tolerances
-from trcopt.controllers.heidenhain.appr_dep import LeadError
-from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE, ContourError, Elem, radius_too_large
-from trcopt.controllers.heidenhain.lexer import Block, Word, lex_block
-from trcopt.controllers.heidenhain.motion import MotionBlocks
+from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE, Elem, radius_too_large
+from trcopt.controllers.heidenhain.flow import FlowBlocks
+from trcopt.controllers.heidenhain.frames import FRAME_CYCLES, FrameError, apply_cycle
+from trcopt.controllers.heidenhain.lexer import Block, Word
 from trcopt.controllers.heidenhain.state import ALLOWED_WORDS, BlockError, HeidenhainOptions
 from trcopt.controllers.heidenhain.tooltable import HhTool, find_tool_table, load_tool_table
 from trcopt.errors import ConfigError, Severity, SourceSpan
@@ -36,7 +38,6 @@ from trcopt.geometry.plane import Plane
 from trcopt.modes import CornerMode, PathMode, Side, ToleranceKind
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
-from trcopt.nc.text import program_lines
 
 __all__ = ["HeidenhainReader", "read_heidenhain", "read_klartext"]
 
@@ -44,7 +45,7 @@ _AXIS_PLANE = {"Z": Plane.G17, "Y": Plane.G18, "X": Plane.G19}
 _MOTION = {"L", "LP", "C", "CR", "CT", "CP", "CTP"}
 
 
-class HeidenhainReader(MotionBlocks):
+class HeidenhainReader(FlowBlocks):
     """Reads one Klartext program (``read(text) -> NcProgram``); see the module docstring."""
 
     name = "heidenhain"
@@ -52,30 +53,7 @@ class HeidenhainReader(MotionBlocks):
     # ------------------------------------------------------------------ driver
     def read(self, text: str) -> NcProgram:
         self._load_table()
-        span = SourceSpan(self.file, 1, 1)
-        for lineno, raw in enumerate(program_lines(text), start=1):
-            blk = lex_block(raw, lineno)
-            if not blk.statement:
-                continue
-            self.blocks += 1
-            span = SourceSpan(self.file, lineno, blk.column, blk.number)
-            n_before = len(self.elems)
-            try:
-                self._block(blk, span)
-            except (BlockError, ContourError, LeadError) as exc:
-                col = getattr(exc, "column", None) or blk.column
-                where = getattr(exc, "span", None) or SourceSpan(self.file, lineno, col, blk.number)
-                self._error(exc.code, exc.message, where)
-                break
-            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
-                message = f"internal error while reading this block: {exc!r}"
-                self._error(Code.NC_INTERNAL, message, SourceSpan(self.file, lineno, blk.column, blk.number))
-                break
-            for e in self.elems[n_before:]:
-                e.extra.setdefault("plane", self.plane)
-            if self.ended:
-                break
-        else:
+        if self._run(text) and not self.ended:
             if self.appr is not None:
                 self._error(
                     Code.HH_APPR_NO_CONTOUR, "APPR without a following contour element", self.appr.span
@@ -136,15 +114,6 @@ class HeidenhainReader(MotionBlocks):
                 speed = [f"S{float(words['S'].value or 0.0):g}"] if "S" in words else []
                 self.word_blocks.append((span, (f"T{tool}" if tool.isdigit() else f'T="{tool}"', *speed)))
             return
-        if st == "PGM CALL":
-            self._no_open_corner(st)
-            self.side = self.last_on_side = Side.OFF
-            self._warn(
-                Code.HH_PGM_CALL,
-                "PGM CALL: the called program is not executed; compensation cancelled",
-                span,
-            )
-            return
         if st.startswith("APPR"):
             self._no_open_corner(st)
             self._appr_block(blk, span)
@@ -158,7 +127,7 @@ class HeidenhainReader(MotionBlocks):
             return
         if st == "CC":
             words = self._words(blk, ALLOWED_WORDS["CC"])
-            c = self._uvw(self._target(words))
+            c = self._uvw(self._prog_target(words))  # the pole in program coordinates
             self.pole = (c[0], c[1])
             self.last_pa = self.last_pr = None
             return
@@ -175,14 +144,21 @@ class HeidenhainReader(MotionBlocks):
 
     def _cycle(self, blk: Block, span: SourceSpan) -> None:
         """``CYCL DEF 32.0 TOLERANCE`` / ``32.1 T…`` / ``32.2 HSC-MODE:… TA…``: the contour
-        tolerance of the following blocks (``32.1`` without ``T``, or ``T0``: cancelled). Other
-        cycles are not modelled and stop the program."""
+        tolerance of the following blocks (``32.1`` without ``T``, or ``T0``: cancelled); the
+        coordinate transformations 7, 8, 10, 11, 26 (:mod:`.frames`). Other cycles are not
+        modelled and stop the program (``HH-NOT-MODELLED``)."""
         words = blk.words
         number = words[0].text if words else ""
-        if not number.startswith("32"):
+        if number.split(".")[0] in FRAME_CYCLES:
+            try:
+                apply_cycle(self.frame, number, words[1:], self.unit, self.plane, blk.column)
+            except FrameError as exc:
+                raise BlockError(exc.code, exc.message, exc.column) from None
+            return
+        if number.split(".")[0] != "32":
             raise BlockError(
-                Code.HH_SYNTAX,
-                f"CYCL DEF {number or '?'}: this cycle is not supported by trcopt",
+                Code.HH_NOT_MODELLED,
+                f"CYCL DEF {number or '?'}: this cycle is not modelled by trcopt",
                 words[0].column if words else blk.column,
             )
         if number == "32.1":
@@ -200,7 +176,7 @@ class HeidenhainReader(MotionBlocks):
             control = (
                 PathControl(PathMode.BLEND, tol, ToleranceKind.CONTOUR, f"CYCL DEF {text}") if tol else EXACT_PATH
             )
-            self.controls.append((blk.line, control))
+            self.controls.append((self.seq, control))
         elif number not in ("32.0", "32.2", "32"):
             raise BlockError(Code.HH_SYNTAX, f"CYCL DEF {number}: unknown block of cycle 32", words[0].column)
 
@@ -281,13 +257,14 @@ class HeidenhainReader(MotionBlocks):
             if found is None:
                 continue
             bad = region[found[0]]
-            cut = next(i for i, e in enumerate(self.elems) if e.span.line == bad.span.line)
+            cut = next(i for i, e in enumerate(self.elems) if e is bad)
+            seq = bad.extra.get("seq")
+            while cut > 0 and self.elems[cut - 1].span == bad.span and self.elems[cut - 1].extra.get("seq") == seq:
+                cut -= 1  # the whole block goes
+            mark = self.elems[cut].extra.get("diag_mark", len(self.diags))
+            assert isinstance(mark, int)
             del self.elems[cut:]
-            self.diags = [
-                d
-                for d in self.diags
-                if d.severity is not Severity.ERROR or d.span.line < bad.span.line
-            ]
+            self.diags = [d for i, d in enumerate(self.diags) if d.severity is not Severity.ERROR or i < mark]
             self._error(Code.HH_TOOL_RADIUS_TOO_LARGE, f"{TOOL_RADIUS_TOO_LARGE}: {found[1]}", bad.span)
             return
 
@@ -298,7 +275,9 @@ class HeidenhainReader(MotionBlocks):
         change = next(controls, None)
         control = EXACT_PATH
         for e in self.elems:
-            while change is not None and change[0] <= e.span.line:
+            seq = e.extra.get("seq", 0)
+            assert isinstance(seq, int)
+            while change is not None and change[0] <= seq:
                 control = change[1]
                 change = next(controls, None)
             if "M90" in e.actions and not self.warned_m90:

@@ -20,7 +20,9 @@ from dataclasses import dataclass, field
 from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.controllers.heidenhain.contour import Elem
+from trcopt.controllers.heidenhain.frames import Frame
 from trcopt.controllers.heidenhain.lexer import Block, Word
+from trcopt.controllers.heidenhain.qparams import QParams
 from trcopt.controllers.heidenhain.tooltable import HhTool, compensation_value
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import vec
@@ -40,6 +42,7 @@ __all__ = [
     "COORDINATE_WORDS",
     "ALLOWED_WORDS",
     "AXIS_INDEX",
+    "NOT_MODELLED_M",
 ]
 
 COMPENSATION_WORDS = {"RL", "RR", "R0", "R+", "R-"}
@@ -65,6 +68,19 @@ ALLOWED_WORDS: dict[str, set[str]] = {
 }
 #: The coordinate index of an axis letter.
 AXIS_INDEX = {"X": 0, "Y": 1, "Z": 2}
+#: M functions that change the path or positioning and are not modelled: an error naming them.
+NOT_MODELLED_M = {
+    91: "positioning in the machine coordinate system",
+    92: "positioning in the M92 coordinate system",
+    98: "completing corners of open contours",
+    112: "contour transition filter",
+    114: "tool-tilt compensation",
+    120: "look-ahead radius compensation M120 LA",
+    124: "contour filter",
+    128: "TCPM",
+    130: "positioning in the untilted system",
+    140: "retraction along the tool axis",
+}
 
 
 class BlockError(Exception):
@@ -79,10 +95,14 @@ class BlockError(Exception):
 @dataclass(frozen=True, slots=True)
 class HeidenhainOptions:
     """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9; a string
-    is accepted and checked); ``tools`` preset tool table."""
+    is accepted and checked); ``tools`` preset tool table; ``max_iterations`` (loop iterations:
+    jumps back and section repeats) and ``max_blocks`` (executed blocks) after which a program that
+    has not ended stops with ``HH-LOOP-LIMIT``."""
 
     appr_radius: ApprRadius = ApprRadius.CENTRE
     tools: dict[int, HhTool] = field(default_factory=dict)
+    max_iterations: int = 10_000
+    max_blocks: int = 1_000_000
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "appr_radius", parse_enum(ApprRadius, self.appr_radius, "APPR/DEP radius reading"))
@@ -105,6 +125,7 @@ class PendingApproach:
     feed_in_block: bool
     span: SourceSpan
     actions: tuple[str, ...]
+    scale: float = 1.0  # mm per programmed length unit in the plane (unit × scaling cycles)
 
 
 def number(word: Word) -> float:
@@ -145,8 +166,20 @@ class ReaderState:
         # the words of blocks without motion (TOOL CALL, STOP), for the G-code writer
         self.word_blocks: list[tuple[SourceSpan, tuple[str, ...]]] = []
         self.ended = False
-        self.controls: list[tuple[int, PathControl]] = []  # (source line, path control from there on)
+        self.controls: list[tuple[int, PathControl]] = []  # (executed block, path control from there on)
         self.warned_m90 = False
+        self.iterations = 0  # loop iterations so far (FN 9–12 jumps back, section repeats)
+        self.seq = 0  # executed blocks so far (the order of the run, also across jumps and calls)
+        self.frame = Frame()
+        self.q = QParams(self._preset_q)
+
+    def _preset_q(self, name: str) -> float | None:
+        """The TNC's preassigned Q parameters: Q108 compensation value, Q113 unit (0 mm, 1 inch)."""
+        if name == "Q108" and self.tool is not None:
+            return compensation_value(self.tool.radius, self.tool.dr, self.dr_call) / self.unit
+        if name == "Q113":
+            return 0.0 if self.unit == 1.0 else 1.0
+        return None
 
     def _error(self, code: Code, message: str, span: SourceSpan) -> None:
         self.diags.append(Diagnostic(Severity.ERROR, code, message, span))
@@ -157,6 +190,11 @@ class ReaderState:
     # ------------------------------------------------------------------ words
     def _words(self, blk: Block, allowed: set[str]) -> dict[str, Word]:
         out: dict[str, Word] = {}
+        for w in blk.words:
+            m = int(w.value or 0) if w.address == "M" else None
+            if m in NOT_MODELLED_M:
+                what = f"M{m} ({NOT_MODELLED_M[m]})"
+                raise BlockError(Code.HH_NOT_MODELLED, f"{what} is not modelled by trcopt", w.column)
         for w in blk.words:
             if w.address == "?":
                 raise BlockError(Code.HH_SYNTAX, f"unknown word {w.text!r}", w.column)
@@ -174,8 +212,43 @@ class ReaderState:
             out[key or f"#{len(out)}"] = w
         return out
 
+    # ------------------------------------------------------------------ frames (CYCL DEF 7/8/10/11/26)
+    def _prog(self, p: Vec3) -> Vec3:
+        return self.frame.to_prog(p, self.plane)
+
+    def _work(self, p: Vec3) -> Vec3:
+        return self.frame.to_work(p, self.plane)
+
+    def _mirrored(self) -> bool:
+        return self.frame.mirrored(self.plane)
+
+    def _side_of(self, comp: str) -> Side:
+        """RL/RR as sides of the transformed contour (a mirror reverses them)."""
+        left = (comp == "RL") != self._mirrored()
+        return Side.LEFT if left else Side.RIGHT
+
+    def _length(self, value: float, what: str = "a length") -> float:
+        """A programmed length in the working plane (radius, LEN, RND, CHF) in mm of the work
+        system: times the unit and the scale factor."""
+        f = self.frame.plane_scale(self.plane)
+        if f is None:
+            raise BlockError(
+                Code.HH_NOT_MODELLED,
+                f"{what} under CYCL DEF 26 with different factors in the working plane (circles would become ellipses)",
+            )
+        return value * self.unit * f
+
+    def _pole_work(self) -> tuple[float, float]:
+        assert self.pole is not None
+        self._length(1.0, "a circle")
+        c = self._uvw(self._work(self.plane.to_xyz((self.pole[0], self.pole[1], 0.0))))
+        return (c[0], c[1])
+
     def _target(self, words: dict[str, Word]) -> Vec3:
-        p = list(self.pos)
+        return self._work(self._prog_target(words))
+
+    def _prog_target(self, words: dict[str, Word]) -> Vec3:
+        p = list(self._prog(self.pos))
         for key, w in words.items():
             axis = key[-1] if key in COORDINATE_WORDS else None
             if axis is None:
@@ -188,7 +261,7 @@ class ReaderState:
     def _polar_target(self, words: dict[str, Word], line: bool) -> Vec3:
         if self.pole is None:
             raise BlockError(Code.HH_NO_POLE, "polar coordinates need a pole (CC)")
-        s = self._uvw(self.pos)
+        s = self._uvw(self._prog(self.pos))
         cur_angle = math.degrees(math.atan2(s[1] - self.pole[1], s[0] - self.pole[0]))
         cur_r = math.hypot(s[0] - self.pole[0], s[1] - self.pole[1])
         pa = self.last_pa if self.last_pa is not None else cur_angle
@@ -204,9 +277,9 @@ class ReaderState:
         if not line:
             pr = cur_r  # CP: radius = distance start–pole
         self.last_pa, self.last_pr = pa, pr
-        w = self._uvw(self._target({k: v for k, v in words.items() if k in COORDINATE_WORDS}))[2]
+        w = self._uvw(self._prog_target({k: v for k, v in words.items() if k in COORDINATE_WORDS}))[2]
         e = vec.polar(self.pole, pr, math.radians(pa))
-        return self.plane.to_xyz((e[0], e[1], w))
+        return self._work(self.plane.to_xyz((e[0], e[1], w)))
 
     def _feed_of(self, words: dict[str, Word]) -> tuple[float | None, bool]:
         """Feed of this block (mm/s, None = FMAX) and whether it is a rapid; updates the modal F."""

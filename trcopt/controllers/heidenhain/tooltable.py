@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
+from trcopt.config import file_beside, read_toml
 from trcopt.errors import ConfigError
 from trcopt.nc.limits import MAX_COORDINATE_MM
 
@@ -105,25 +105,10 @@ def tool_table_from_dict(
 
 def load_tool_table(path: str | os.PathLike[str]) -> dict[int, HhTool]:
     """Read a tool table TOML file (see the module docstring)."""
-    p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ConfigError(f"cannot read tool table {p}: {exc.strerror}") from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"{p}: not a text file (a tool table is UTF-8 TOML): byte {exc.start}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{p}: {exc}") from None
-    return tool_table_from_dict(data, str(p))
+    return tool_table_from_dict(read_toml(path, "tool table"), str(path))
 
 
 def find_tool_table(program: str) -> Path | None:
     """The tool table that belongs to a program file: ``<stem>.tools.toml`` beside it, else
     ``tools.toml`` in its folder (the TNC's TOOL.T); None when there is none."""
-    p = Path(program)
-    if not p.name or not p.exists():
-        return None
-    for cand in (p.with_name(p.stem + ".tools.toml"), p.with_name("tools.toml")):
-        if cand.is_file():
-            return cand
-    return None
+    return file_beside(program, ".tools.toml", "tools.toml")

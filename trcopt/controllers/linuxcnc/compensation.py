@@ -46,6 +46,7 @@ from trcopt.codes import Code
 from trcopt.config import TrcSettings
 from trcopt.controllers.linuxcnc.corners import (
     ARC_SWEEP_SLACK,
+    ARC_SWEEP_SLACK_MM,
     HALF_PI,
     MESSAGES,
     TOLERANCE_CONCAVE_CORNER,
@@ -109,6 +110,7 @@ class _LinuxCncCompensator:
         self.prog: Vec3 | None = None  # programmed position
         self.queue: list[_Queued] = []
         self.endpoint: Vec2 = (0.0, 0.0)  # start of the first queued move
+        self.inch = False  # the unit of the block being compensated (LinuxCNC's arc-sweep slack)
 
     # -- output -----------------------------------------------------------------------------
     def _segment(self, q: _Queued) -> Segment | None:
@@ -149,7 +151,8 @@ class _LinuxCncCompensator:
                 assert q.center is not None
                 if q.prog_sweep:
                     sweep = find_turn(self.endpoint, q.center, q.turn, p)
-                    if abs(sweep) > abs(q.prog_sweep) + ARC_SWEEP_SLACK:
+                    slack = ARC_SWEEP_SLACK if self.inch else ARC_SWEEP_SLACK_MM
+                    if abs(sweep) > abs(q.prog_sweep) + slack:
                         raise CompensationStop(Code.LCNC_CONCAVE_GOUGE_ARC, span)
             else:
                 new = (p[0] - self.endpoint[0], p[1] - self.endpoint[1])
@@ -191,6 +194,7 @@ class _LinuxCncCompensator:
 
     def _block(self, m: Move) -> Iterator[Segment]:
         comp = m.comp
+        self.inch = comp.inch
         want = comp.effective_side
         if want is not Side.OFF and (not self.on or comp.side_programmed):
             if self.on:

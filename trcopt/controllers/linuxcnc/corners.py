@@ -27,6 +27,7 @@ from trcopt.nc.model import Move
 __all__ = [
     "TOLERANCE_CONCAVE_CORNER",
     "ARC_SWEEP_SLACK",
+    "ARC_SWEEP_SLACK_MM",
     "HALF_PI",
     "TWO_PI",
     "MESSAGES",
@@ -45,7 +46,8 @@ __all__ = [
 ]
 
 TOLERANCE_CONCAVE_CORNER = 0.05  # rad: joins flatter than this are left untouched
-ARC_SWEEP_SLACK = 0.001  # rad: a trimmed arc may sweep this much more than programmed
+ARC_SWEEP_SLACK = 0.001  # rad: a trimmed arc may sweep this much more than programmed (inch program)
+ARC_SWEEP_SLACK_MM = 0.0254  # the same in a metric program (LinuxCNC compares with .001 in as mm)
 HALF_PI = 0.5 * math.pi
 TWO_PI = 2.0 * math.pi
 

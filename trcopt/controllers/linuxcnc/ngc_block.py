@@ -33,6 +33,7 @@ class Block:
 
     words: list[tuple[str, float, int]]
     settings: list[tuple[int | str, float]]
+    comment: str | None = None  # the line's last ( ) comment (messages: MSG, DEBUG, PRINT, ABORT)
 
 
 @dataclass(slots=True)
@@ -111,4 +112,4 @@ def read_words(line: NgcLine, start: int, params: Parameters) -> Block:
             break
         else:
             raise NgcError(f"Bad character '{c}' used", at, Code.NC_SYNTAX)
-    return Block(words, settings)
+    return Block(words, settings, line.comment)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from trcopt.codes import Code
@@ -42,8 +43,8 @@ MAX_PARAMETERS = 5602  # LinuxCNC's RS274NGC_MAX_PARAMETERS: #1 … #5601
 TOLERANCE_EQUAL = 1e-6  # LinuxCNC: EQ, NE, LE, GE compare within this
 FIRST_SUB_PARAM, SUB_PARAMS = 1, 30  # subroutine arguments #1 … #30
 
-# LinuxCNC's predefined read-only named parameters that trcopt does not model (reading one is an
-# NC-UNSUPPORTED error, not LinuxCNC's "not defined")
+# LinuxCNC's predefined read-only named parameters: the reader answers those it models
+# (Parameters.readonly); reading another is an NC-UNSUPPORTED error, not LinuxCNC's "not defined"
 _PREDEFINED = frozenset(
     "_vmajor _vminor _line _motion_mode _plane _ccomp _metric _imperial _absolute _incremental "
     "_inverse_time _units_per_minute _units_per_rev _coord_system _tool_offset _retract_r_plane "
@@ -84,6 +85,7 @@ class NgcLine:
 
     text: str
     cols: tuple[int, ...]
+    comment: str | None = None  # the last ( ) comment of the line, as written (LinuxCNC keeps only it)
 
     def col(self, index: int) -> int:
         return self.cols[min(max(index, 0), len(self.cols) - 1)]
@@ -93,6 +95,7 @@ def normalise(raw: str) -> NgcLine:
     """LinuxCNC's ``close_and_downcase`` (comments dropped rather than kept)."""
     out: list[str] = []
     cols: list[int] = []
+    comment: str | None = None
     i, n = 0, len(raw)
     while i < n:
         c = raw[i]
@@ -104,6 +107,7 @@ def normalise(raw: str) -> NgcLine:
                 raise NgcError("Unclosed comment found", 0, Code.NC_SYNTAX, i + 1)
             if "(" in raw[i + 1 : close]:
                 raise NgcError("Nested comment found", 0, Code.NC_SYNTAX, i + 2 + raw[i + 1 : close].index("("))
+            comment = raw[i + 1 : close]
             i = close + 1
             continue
         if c not in " \t\r\n\f\v":
@@ -111,7 +115,7 @@ def normalise(raw: str) -> NgcLine:
             cols.append(i + 1)
         i += 1
     cols.append((cols[-1] + 1) if cols else 1)
-    return NgcLine("".join(out), tuple(cols))
+    return NgcLine("".join(out), tuple(cols), comment)
 
 
 @dataclass(slots=True)
@@ -121,9 +125,17 @@ class Parameters:
     numbered: list[float] = field(default_factory=lambda: [0.0] * MAX_PARAMETERS)
     globals: dict[str, float] = field(default_factory=dict)
     frames: list[dict[str, float]] = field(default_factory=lambda: [{}])  # locals of each call level
+    # the predefined read-only parameters (#<_x>, #<_metric>…) the reader models: name -> value
+    # (None: not one of them); raises NgcError where LinuxCNC's value is not modelled
+    readonly: Callable[[str], float | None] | None = None
+    comp_on: bool = False  # #5420…#5428 cannot be read while cutter radius compensation is on
 
     def get_named(self, name: str) -> float | None:
         if name.startswith("_"):
+            if self.readonly is not None and name in _PREDEFINED:
+                value = self.readonly(name)
+                if value is not None:
+                    return value
             return self.globals.get(name)
         return self.frames[-1].get(name)
 
@@ -212,6 +224,8 @@ class ValueReader:
             return value
         index = read_integer(self.value(), at)
         self.params.check_index(index, at)
+        if 5420 <= index <= 5428 and self.params.comp_on:
+            raise NgcError("Cannot read current position with cutter radius compensation on", at, Code.LCNC_PARAMETER)
         return self.params.numbered[index]
 
     def name(self) -> str:
@@ -361,7 +375,7 @@ def _unary(name: str, x: float, at: int) -> float:
             return math.inf
     if name == "round":
         return float(math.trunc(x + (-0.5 if x < 0.0 else 0.5)))
-    simple = {
+    simple: dict[str, Callable[[float], float]] = {
         "abs": abs,
         "fix": math.floor,
         "fup": math.ceil,

@@ -12,14 +12,16 @@ restored on return, and named parameters without ``_`` belong to the call.
 :meth:`NgcFlow.blocks` yields every line to execute (block, file, line, N number) and applies the
 line's parameter settings when the consumer asks for the next one. Errors are
 :class:`FlowError` (file, line, column, N number, code, LinuxCNC's message). A loop that jumps back
-more than :data:`LOOP_LIMIT` times without leaving stops with ``NC-LOOP-LIMIT``.
+more than :data:`LOOP_LIMIT` times without leaving, or a program that jumps back more than
+:data:`TOTAL_JUMP_LIMIT` times in all (a finished loop entered again and again), stops with
+``NC-LOOP-LIMIT``.
 """
 
 from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterator
+from collections.abc import Generator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -36,9 +38,10 @@ from trcopt.controllers.linuxcnc.ngc_expr import (
 )
 from trcopt.nc.text import decode_program, program_lines
 
-__all__ = ["LOOP_LIMIT", "CALL_LEVELS", "FlowError", "NgcFlow", "Step"]
+__all__ = ["LOOP_LIMIT", "TOTAL_JUMP_LIMIT", "CALL_LEVELS", "FlowError", "NgcFlow", "Step"]
 
 LOOP_LIMIT = 100_000  # jumps back to one loop start before the loop is taken as endless
+TOTAL_JUMP_LIMIT = 100_000  # jumps back in the whole program (a loop re-entered without end)
 CALL_LEVELS = 10  # LinuxCNC's INTERP_SUB_ROUTINE_LEVELS
 _BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
 _NO_END = "File ended with no percent sign (%) or program end (M2)"
@@ -101,12 +104,13 @@ class NgcFlow:
         self.offsets: dict[str, _Offset] = {}
         self.frames: list[_Frame] = [_Frame()]
         self.value = 0.0  # a subroutine's return value (#<_value>)
+        self.jumps = 0  # jumps back so far (TOTAL_JUMP_LIMIT)
         self._lines: dict[tuple[str, int], tuple[NgcLine, int | None, int]] = {}  # normalised once
         self.raw = ""  # the O-line being run, as written (LinuxCNC quotes it in messages)
         self.opened: tuple[str, int] = (file, 0)  # the O-line that opened the skip or definition
 
     # -- driving --------------------------------------------------------------------------------
-    def blocks(self) -> Iterator[Step]:
+    def blocks(self) -> Generator[Step, None, None]:
         number: int | None = None
         line_no = 0
         line = NgcLine("", (1,))
@@ -356,6 +360,14 @@ class NgcFlow:
     def _back_to(self, name: str, o: OLine) -> None:
         op = self.offsets[name]
         op.jumps += 1
+        self.jumps += 1
+        if self.jumps > TOTAL_JUMP_LIMIT:
+            raise NgcError(
+                f"more than {TOTAL_JUMP_LIMIT} jumps back in the program (o{name.rpartition('#')[2]} "
+                f"{op.command}); it is taken as endless",
+                o.at,
+                Code.NC_LOOP_LIMIT,
+            )
         if op.jumps > LOOP_LIMIT:
             raise NgcError(
                 f"o{name.rpartition('#')[2]} {op.command}: more than {LOOP_LIMIT} iterations; the loop is "

@@ -1,71 +1,49 @@
 """RS274NGC / LinuxCNC G-code front end: program text → canonical moves (absolute mm).
 
-The supported subset (issue 3): ``( )`` and ``;`` comments, block delete ``/``, ``N`` numbers,
-``%`` lines; G0 G1 G2 G3 (centre I/J/K incremental — G91.1, the default — or absolute with G90.1,
-or ``R``; ``P`` full turns; a change of the applicate makes a helix), G4, G17 G18 G19, G20 G21,
-G40 G41 G42 (``D`` = tool number in the tool table, none = the tool in the spindle), G41.1 G42.1
-(``D`` = diameter in program units), G43/G49, G54, G61/G61.1/G64, G80, G90 G91, G94; F (units per
-minute), S, T, M0 M1 M3 M4 M5 M6 M7 M8 M9, M2/M30 (end). The language around the words —
-parameters, ``[ ]`` expressions, O-word subroutines and control flow (issue 16) — is LinuxCNC's,
-run by :class:`~trcopt.controllers.linuxcnc.ngc_flow.NgcFlow`; this module executes the blocks it
-yields. Anything else — G10/G28/G30/G53/G92, G93/G95, other work offsets — stops the read with an
-``NC-UNSUPPORTED`` error that names it.
+The language is LinuxCNC's (issues 3 and 16): ``( )`` and ``;`` comments, block delete ``/``,
+``N`` numbers, ``%`` lines; parameters, ``[ ]`` expressions, O-word subroutines and control flow
+(:class:`~trcopt.controllers.linuxcnc.ngc_flow.NgcFlow`); each block is then decoded
+(:mod:`~trcopt.controllers.linuxcnc.ngc_words`) and executed in LinuxCNC's order
+(:mod:`~trcopt.controllers.linuxcnc.ngc_exec`): G0 G1 G2 G3 (I/J/K or R, P turns, helices), G4,
+G17–G19, G20/G21, G40–G42 and G41.1/G42.1, G43/G43.1/G43.2/G49, G54–G59.3, G10 L1/L10/L2/L20,
+G28/G30 and G28.1/G30.1, G52, G53, G92/G92.1/G92.2/G92.3, G61/G61.1/G64, G73 G74 G81–G87 G89 with
+G98/G99 (:mod:`~trcopt.controllers.linuxcnc.ngc_cycles`), G80, G90/G91, G90.1/G91.1, G94; F, S,
+T, M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M48 M49 M60 M61; ``(MSG,…)``, ``(DEBUG,…)``, ``(PRINT,…)``
+(kept as ``LCNC-MESSAGE`` notes), ``(ABORT,…)``. Codes LinuxCNC has and trcopt does not model
+(G33, G38.x, G76, G93/G95, M62…, M98/M99, …) stop the read with ``NC-UNSUPPORTED`` naming them.
 
 Conventions: the program starts at (0, 0, 0) in G17, G90, G91.1 and mm (until G20); lengths are
-converted to mm here, feeds to mm/s. The tool table is LinuxCNC's ``.tbl``
-(:mod:`trcopt.controllers.linuxcnc.tooltable`), read with an explicit unit.
+converted to mm here, feeds to mm/s. The moves are in the G54 system as it stands at the start
+(:mod:`~trcopt.controllers.linuxcnc.ngc_offsets`). The tool table is LinuxCNC's ``.tbl``
+(:mod:`trcopt.controllers.linuxcnc.tooltable`) in the machine unit: the program's own unit unless
+``tool_unit`` says inch or mm; parameters (``#5161``… reference points, work offsets) and the
+G73/G83 peck clearances may be set in ``rs274ngc.toml`` beside the tool table or the program.
 """
 
 from __future__ import annotations
 
-import math
 import os
-from collections.abc import Mapping
-from dataclasses import dataclass
+import re
 
 from trcopt.codes import Code
-from trcopt.controllers.linuxcnc.ngc_flow import FlowError, NgcFlow
-from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, load_tbl
+from trcopt.controllers.linuxcnc.ngc_comment import active_comment
+from trcopt.controllers.linuxcnc.ngc_exec import execute_block
+from trcopt.controllers.linuxcnc.ngc_expr import NgcError, Parameters, normalise
+from trcopt.controllers.linuxcnc.ngc_flow import FlowError, NgcFlow, Step
+from trcopt.controllers.linuxcnc.ngc_motion import NgcState, Stop, ToolEntry
+from trcopt.controllers.linuxcnc.ngc_offsets import OffsetError, Offsets
+from trcopt.controllers.linuxcnc.ngc_words import decode
+from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, load_parameters, load_tbl
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
-from trcopt.geometry.vec import Vec3
-from trcopt.modes import PathMode, Side, ToleranceKind, ToolUnit
-from trcopt.nc.modal import ReadOptions, arc_centre_from_radius
-from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
+from trcopt.modes import Side, ToolUnit, parse_enum
+from trcopt.nc.modal import ReadOptions
+from trcopt.nc.model import Move, NcProgram
 
 __all__ = ["Rs274Reader", "read_rs274", "read_ngc"]
 
-INCH = 25.4
-_PLANES = {17.0: Plane.G17, 18.0: Plane.G18, 19.0: Plane.G19}
-_CENTRE_LETTER = "IJK"  # centre word of x, y, z
-_IGNORED_G = {4.0, 43.0, 49.0, 54.0, 80.0, 94.0}
-_CONTROL_G = (61.0, 61.1, 64.0)
-LCNC_BLEND_SHARE = 0.25  # a G64 blend passes at most this share of the shorter move from the corner
-_IGNORED_M = {0, 1, 3, 4, 5, 7, 8, 9}
-_ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
-
-
-class _Stop(Exception):
-    def __init__(self, code: Code, message: str, column: int = 1) -> None:
-        super().__init__(message)
-        self.code, self.message, self.column = code, message, column
-
-
-@dataclass(slots=True)
-class _State:
-    pos: Vec3 = (0.0, 0.0, 0.0)
-    plane: Plane = Plane.G17
-    unit: float = 1.0  # mm per program unit
-    absolute: bool = True
-    ijk_absolute: bool = False
-    motion: MoveKind | None = None
-    ccw: bool = False  # sense of the modal arc motion (G3)
-    feed_mm_s: float | None = None
-    side: Side = Side.OFF
-    radius_mm: float = 0.0  # signed
-    selected_tool: int | None = None
-    spindle_tool: int | None = None
-    control: PathControl = EXACT_PATH  # G61 (and no mode programmed); G61.1; G64 [P]
+_PLANE_CODE = {Plane.G17: 170.0, Plane.G18: 180.0, Plane.G19: 190.0}
+_SIDE_CODE = {Side.OFF: 400.0, Side.LEFT: 410.0, Side.RIGHT: 420.0}
 
 
 class Rs274Reader:
@@ -80,8 +58,12 @@ class Rs274Reader:
         A :class:`~trcopt.controllers.linuxcnc.tooltable.LinuxCncToolTable`, or a path to a ``.tbl`` file (read in
         ``tool_unit``).
     tool_unit:
-        Unit of a tool table read from a path: ``"inch"`` (LinuxCNC's default machine unit) or
-        ``"mm"``.
+        The machine unit: of a tool table read from a path and of the offset parameters —
+        ``"program"`` (the default: the unit of the program's first G20/G21), ``"inch"``
+        (LinuxCNC's standalone interpreter) or ``"mm"``.
+    parameters:
+        A ``rs274ngc.toml`` file (parameter values, peck clearances); default: beside the tool
+        table, else beside the program.
     """
 
     name = "rs274"
@@ -90,37 +72,59 @@ class Rs274Reader:
         self,
         file: str = "<program>",
         tools: LinuxCncToolTable | str | os.PathLike[str] | None = None,
-        tool_unit: ToolUnit | str = ToolUnit.INCH,
+        tool_unit: ToolUnit | str = ToolUnit.PROGRAM,
         arc_tolerance_mm: float = 0.005,
+        parameters: str | os.PathLike[str] | None = None,
     ) -> None:
         self.file = file
         self.diags: list[Diagnostic] = []
         self.arc_tolerance_mm = arc_tolerance_mm
+        self.unit = parse_enum(ToolUnit, tool_unit, "tool unit") if isinstance(tool_unit, str) else tool_unit
+        table_path: str | os.PathLike[str] | None = None
         if tools is None:
-            found = find_tbl(file)
-            if found is not None:
-                tools = found
+            tools = find_tbl(file)
         if isinstance(tools, (str, os.PathLike)):
-            table = load_tbl(tools, tool_unit)
+            table_path = tools
+            table = load_tbl(tools, self.unit)
             self.diags.append(
                 Diagnostic(
                     Severity.INFO,
                     Code.LCNC_TOOL_TABLE,
-                    f"tool table {table.source} read in {table.unit.value}",
+                    f"tool table {table.source} read in {_unit_name(table.unit)}",
                     SourceSpan(file, 0, 0),
                 )
             )
             tools = table
         self.tools: LinuxCncToolTable = (
-            tools if isinstance(tools, LinuxCncToolTable) else LinuxCncToolTable()
+            tools if isinstance(tools, LinuxCncToolTable) else LinuxCncToolTable(unit=self.unit)
         )
+        self.settings = load_parameters(parameters, table_path, file)
 
     # -- reading ----------------------------------------------------------------------------
     def read(self, text: str) -> NcProgram:
-        st = _State()
+        params = Parameters()
+        for number, value in self.settings.parameters.items():
+            params.numbered[number] = value
+        unit = self.tools.unit
+        k = unit.mm
+        entries = {
+            n: ToolEntry(t.diameter_mm / k, [t.x_offset_mm / k, t.y_offset_mm / k, t.z_offset_mm / k], t.orientation)
+            for n, t in self.tools.tools.items()
+        }
+        holder: list[NgcState] = []
+        offsets = Offsets(params, lambda: holder[0].machine_unit())
+        st = NgcState(offsets, entries, program_unit(text) if unit is ToolUnit.PROGRAM else unit.mm)
+        st.peck_clearance = dict(self.settings.peck_clearance)
+        holder.append(st)
+        params.readonly = lambda name: _readonly(name, st)
+        try:  # the machine starts at its origin, as LinuxCNC's interpreter does
+            st.pos = offsets.machine_end({0: 0.0, 1: 0.0, 2: 0.0}, st.pos)
+        except OffsetError as exc:
+            self.diags.append(Diagnostic(Severity.ERROR, exc.code, exc.message, SourceSpan(self.file, 0, 0)))
+            return NcProgram(self.file, "rs274", (), tuple(self.diags), 0)
         moves: list[Move] = []
         blocks = 0
-        steps = NgcFlow(self.file, text).blocks()
+        steps = NgcFlow(self.file, text, params).blocks()
         while True:
             try:
                 step = next(steps, None)
@@ -133,10 +137,15 @@ class Rs274Reader:
             blocks += 1
             span = SourceSpan(step.file, step.line, 1, None if step.number is None else f"N{step.number}")
             try:
-                ended = self._block(step.block.words, span, st, moves)
-            except _Stop as stop:
-                span = SourceSpan(span.file, span.line, stop.column, span.block)
+                ended = self._block(step, span, st, moves, params)
+            except Stop as stop:
+                first = step.block.words[0][2] if step.block.words else 1
+                span = SourceSpan(span.file, span.line, stop.column or first, span.block)
                 self.diags.append(Diagnostic(Severity.ERROR, stop.code, stop.message, span))
+                break
+            except NgcError as exc:
+                span = SourceSpan(span.file, span.line, exc.column or 1, span.block)
+                self.diags.append(Diagnostic(Severity.ERROR, exc.code, exc.message, span))
                 break
             except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
                 message = f"internal error while reading this block: {exc!r}"
@@ -147,280 +156,112 @@ class Rs274Reader:
         steps.close()
         return NcProgram(self.file, "rs274", tuple(moves), tuple(self.diags), blocks)
 
-    def _block(self, words: list[tuple[str, float, int]], span: SourceSpan, st: _State, moves: list[Move]) -> bool:
-        for letter, _, col in words:
-            if letter not in _ALLOWED_LETTERS:
-                raise _Stop(Code.NC_UNSUPPORTED, f"word {letter} is not supported", col)
-        values: dict[str, float] = {}
-        gcodes: list[tuple[float, int]] = []
-        mcodes: list[tuple[int, int]] = []
-        for letter, value, col in words:
-            if letter == "G":
-                gcodes.append((round(value, 1), col))
-            elif letter == "M":
-                mcodes.append((int(value), col))
-            elif letter == "N":
-                raise _Stop(Code.NC_SYNTAX, "N word must start the block", col)
-            elif letter in values:
-                raise _Stop(Code.NC_SYNTAX, f"word {letter} given twice in one block", col)
-            else:
-                values[letter] = value
-        actions: list[str] = []
-        motion: MoveKind | None = None
-        arc_ccw: bool | None = None
-        comp_g: float | None = None
-        ended = False
-        for g, col in gcodes:
-            if g in (0.0, 1.0, 2.0, 3.0):
-                motion = {0.0: MoveKind.RAPID, 1.0: MoveKind.LINE}.get(g, MoveKind.ARC)
-                arc_ccw = g == 3.0 if g in (2.0, 3.0) else None
-            elif g in _PLANES:
-                st.plane = _PLANES[g]
-            elif g == 20.0:
-                st.unit = INCH
-            elif g == 21.0:
-                st.unit = 1.0
-            elif g in (40.0, 41.0, 42.0, 41.1, 42.1):
-                comp_g = g
-            elif g == 90.0:
-                st.absolute = True
-            elif g == 91.0:
-                st.absolute = False
-            elif g == 90.1:
-                st.ijk_absolute = True
-            elif g == 91.1:
-                st.ijk_absolute = False
-            elif g in _CONTROL_G:
-                self._path_control(g, col, values, st)
-            elif g in _IGNORED_G:
-                actions.append(f"G{g:g}")
-            else:
-                raise _Stop(Code.NC_UNSUPPORTED, f"G{g:g} is not supported by the rs274 reader", col)
-        if "F" in values:
-            st.feed_mm_s = values["F"] * st.unit / 60.0
-            actions.append(f"F{values['F']:g}")
-        if "S" in values:
-            actions.append(f"S{values['S']:g}")
-        if "T" in values:
-            st.selected_tool = int(values["T"])
-            actions.append(f"T{int(values['T'])}")
-        for mc, col in mcodes:
-            if mc == 6:
-                st.spindle_tool = st.selected_tool
-                actions.append("M6")
-            elif mc in (2, 30):
-                ended = True
-                actions.append(f"M{mc}")
-            elif mc in _IGNORED_M:
-                actions.append(f"M{mc}")
-            else:
-                raise _Stop(Code.NC_UNSUPPORTED, f"M{mc} is not supported by the rs274 reader", col)
-        side_programmed = comp_g is not None
-        if comp_g is not None:
-            self._compensation(comp_g, values, st)
-        elif "D" in values:
-            raise _Stop(Code.NC_SYNTAX, "D word without G41/G42/G41.1/G42.1")
-        if motion is not None:
-            st.motion = motion
-            if arc_ccw is not None:
-                st.ccw = arc_ccw
-        comp = CompState(
-            side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed
-        )
-        axes = [letter for letter in "XYZ" if letter in values]
-        full_circle = motion is MoveKind.ARC and any(k in values for k in "IJKR")
-        if not axes and not full_circle:
-            if motion is MoveKind.ARC:
-                raise _Stop(Code.NC_SYNTAX, "G2/G3 without end point or centre")
-            moves.append(
-                Move(
-                    MoveKind.NONE,
-                    st.pos,
-                    st.pos,
-                    st.plane,
-                    span,
-                    comp,
-                    st.feed_mm_s,
-                    actions=tuple(actions),
-                    control=st.control,
-                )
-            )
-            return ended
-        if st.motion is None:
-            raise _Stop(Code.NC_SYNTAX, "axis words without a motion mode (G0/G1/G2/G3)")
-        end = list(st.pos)
-        for i, letter in enumerate("XYZ"):
-            if letter in values:
-                v = values[letter] * st.unit
-                end[i] = v if st.absolute else st.pos[i] + v
-        end_t: Vec3 = (end[0], end[1], end[2])
-        iu, iv, _ = st.plane.axes
-        plane_programmed = "XYZ"[iu] in values or "XYZ"[iv] in values
-        kind = st.motion
-        feed = None if kind is MoveKind.RAPID else st.feed_mm_s
-        if kind is not MoveKind.RAPID and feed is None:
-            raise _Stop(Code.NC_SYNTAX, "feed move with no feed rate (F) programmed")
-        if kind is MoveKind.ARC:
-            move = self._arc(st, values, end_t, span, comp, feed, tuple(actions), plane_programmed)
-        else:
-            move = Move(
-                kind,
-                st.pos,
-                end_t,
-                st.plane,
-                span,
-                comp,
-                feed,
-                actions=tuple(actions),
-                plane_programmed=plane_programmed,
-                control=st.control,
-            )
-        moves.append(move)
-        st.pos = end_t
+    def _block(self, step: Step, span: SourceSpan, st: NgcState, moves: list[Move], params: Parameters) -> bool:
+        words = decode(step.block.words, st)
+        settings = dict(step.block.settings)
+
+        def numbered(k: int) -> float | None:
+            v = settings.get(k)
+            return params.numbered[k] if v is None else v
+
+        def named(name: str) -> float | None:
+            v = settings.get(name)
+            return params.get_named(name) if v is None else v
+
+        message = active_comment(step.block.comment, numbered, named)
+        action = None
+        if message is not None:
+            kind, text = message
+            action = f'MSG("{text}")'
+            self.diags.append(Diagnostic(Severity.INFO, Code.LCNC_MESSAGE, f"{kind}: {text}", span))
+        ended = execute_block(words, span, st, moves.append, self.arc_tolerance_mm, action)
+        here = (st.pos[0] / st.unit, st.pos[1] / st.unit, st.pos[2] / st.unit)
+        params.numbered[5420:5423] = list(here)
+        params.comp_on = st.side is not Side.OFF
         return ended
 
-    def _path_control(self, g: float, col: int, values: Mapping[str, float], st: _State) -> None:
-        """G61 exact path, G61.1 exact stop, G64 blending: the blend arc passes at most ``P`` from
-        the programmed corner point and at most a quarter of the shorter move (no ``P``, or
-        ``P0``: the quarter alone) — LinuxCNC's trajectory planner (docs/continuous_path.md)."""
+
+_UNIT_WORD = re.compile(r"g0*2([01])(?![0-9.])")
+
+
+def program_unit(text: str) -> float:
+    """mm per unit of the program's first G20/G21 (mm when it has none): the machine unit of a
+    tool table and parameters given in the program's unit."""
+    for raw in text.splitlines():
+        try:
+            line = normalise(raw).text
+        except NgcError:
+            continue
+        m = _UNIT_WORD.search(line)
+        if m and not line.startswith("o"):
+            return 25.4 if m.group(1) == "0" else 1.0
+    return 1.0
+
+
+def _unit_name(unit: ToolUnit) -> str:
+    return "the program's unit" if unit is ToolUnit.PROGRAM else unit.value
+
+
+def _readonly(name: str, st: NgcState) -> float | None:
+    """LinuxCNC's predefined read-only parameters that trcopt models (program units)."""
+    u = st.unit
+    if name in ("_x", "_y", "_z", "_abs_x", "_abs_y", "_abs_z"):
         if st.side is not Side.OFF:
-            raise _Stop(Code.LCNC_CONTROL_MODE, "Cannot change control mode with cutter radius compensation on", col)
-        if g == 61.0:
-            st.control = PathControl(PathMode.EXACT_PATH, word="G61")
-        elif g == 61.1:
-            st.control = PathControl(PathMode.EXACT_STOP, word="G61.1")
-        else:
-            p = values.get("P")
-            q = values.get("Q", p)
-            if p is not None and p < 0:
-                raise _Stop(Code.NC_SYNTAX, "G64 P must not be negative", col)
-            if q is not None and q < 0:
-                raise _Stop(Code.NC_SYNTAX, "G64 Q must not be negative", col)
-            tol = p * st.unit if p else None
-            merge = q * st.unit if q else None  # the naive-CAM detector: Q defaults to P, Q0 is off
-            word = "G64" if p is None else f"G64 P{p:g}" + ("" if "Q" not in values else f" Q{q:g}")
-            st.control = PathControl(PathMode.BLEND, tol, ToleranceKind.VERTEX, word, LCNC_BLEND_SHARE, merge)
-
-    def _compensation(self, g: float, values: Mapping[str, float], st: _State) -> None:
-        if g == 40.0:
-            st.side, st.radius_mm = Side.OFF, 0.0
-            return
-        st.side = Side.LEFT if g in (41.0, 41.1) else Side.RIGHT
-        if g in (41.1, 42.1):
-            if "D" not in values:
-                raise _Stop(Code.NC_SYNTAX, f"G{g:g} with no D word")
-            if "L" in values:
-                raise _Stop(Code.NC_UNSUPPORTED, "lathe tool orientation (L word) is not supported")
-            st.radius_mm = values["D"] * st.unit / 2.0
-            return
-        if "D" in values:
-            d = values["D"]
-            if d != int(d):
-                raise _Stop(Code.NC_SYNTAX, f"G{g:g} requires D word to be a whole number")
-            if d < 0:
-                raise _Stop(Code.NC_SYNTAX, "Negative D word tool radius index used")
-            number: int | None = int(d)
-        else:
-            number = st.spindle_tool
-        if number is None or number == 0 and number not in self.tools:
-            st.radius_mm = 0.0
-            return
-        tool = self.tools.get(number)
-        if tool is None:
-            raise _Stop(
-                Code.LCNC_TOOL_NOT_FOUND, f"Requested tool {number} not found in the tool table"
-            )
-        if tool.orientation not in (0, 9):
-            raise _Stop(
-                Code.NC_UNSUPPORTED,
-                f"lathe tool T{number} (orientation {tool.orientation}) is not supported",
-            )
-        st.radius_mm = tool.radius_mm
-
-    def _arc(
-        self,
-        st: _State,
-        values: Mapping[str, float],
-        end: Vec3,
-        span: SourceSpan,
-        comp: CompState,
-        feed: float | None,
-        actions: tuple[str, ...],
-        plane_programmed: bool,
-    ) -> Move:
-        plane = st.plane
-        iu, iv, iw = plane.axes
-        ccw = st.ccw
-        s_uvw, e_uvw = plane.to_uvw(st.pos), plane.to_uvw(end)
-        s2, e2 = (s_uvw[0], s_uvw[1]), (e_uvw[0], e_uvw[1])
-        turns = 0
-        if "P" in values:
-            p = values["P"]
-            if p != int(p) or p < 1:
-                raise _Stop(
-                    Code.NC_SYNTAX, "P word of an arc must be a positive whole number of turns"
-                )
-            turns = int(p) - 1
-        if "R" in values:
-            try:
-                c2 = arc_centre_from_radius(
-                    s2, e2, values["R"] * st.unit, ccw, self.arc_tolerance_mm, 1e-9
-                )
-            except ValueError as exc:
-                raise _Stop(Code.LCNC_ARC_RADIUS, f"R-format arc: {exc}") from None
-        else:
-            cu_l, cv_l = _CENTRE_LETTER[iu], _CENTRE_LETTER[iv]
-            if cu_l not in values and cv_l not in values:
-                raise _Stop(Code.NC_SYNTAX, f"arc in {plane.value} needs {cu_l} or {cv_l} (or R)")
-            for letter in _CENTRE_LETTER[iw]:
-                if letter in values:
-                    raise _Stop(Code.NC_SYNTAX, f"{letter} word is not a centre word in {plane.value}")
-            du = values.get(cu_l, 0.0) * st.unit
-            dv = values.get(cv_l, 0.0) * st.unit
-            if st.ijk_absolute:
-                c2 = (du if cu_l in values else s2[0], dv if cv_l in values else s2[1])
-            else:
-                c2 = (s2[0] + du, s2[1] + dv)
-            r0 = math.hypot(s2[0] - c2[0], s2[1] - c2[1])
-            r1 = math.hypot(e2[0] - c2[0], e2[1] - c2[1])
-            diff = abs(r1 - r0)
-            # LinuxCNC: 0.05 in / 0.5 mm always, 0.0005 in / 0.005 mm when also > 0.1 % of r
-            big, small = (0.05 * INCH, 0.0005 * INCH) if st.unit != 1.0 else (0.5, 0.005)
-            if diff > big or (diff > small and diff > 0.001 * r0):
-                raise _Stop(
-                    Code.LCNC_ARC_RADIUS,
-                    f"Radius to end of arc differs from radius to start: r1={r0 / st.unit:.4f} r2={r1 / st.unit:.4f}",
-                )
-            if r0 == 0.0:
-                raise _Stop(Code.LCNC_ARC_RADIUS, "Zero-radius arc")
-        centre = plane.to_xyz((c2[0], c2[1], s_uvw[2]))
-        return Move(
-            MoveKind.ARC,
-            st.pos,
-            end,
-            plane,
-            span,
-            comp,
-            feed,
-            center=centre,
-            ccw=ccw,
-            turns=turns,
-            actions=actions,
-            plane_programmed=plane_programmed,
-            control=st.control,
-        )
+            raise NgcError(f"#<{name}> with cutter radius compensation on is not modelled", 0, Code.NC_UNSUPPORTED)
+        p = st.offsets.machine(st.pos) if name.startswith("_abs") else st.pos
+        return p["xyz".index(name[-1])] / u
+    if name in ("_a", "_b", "_c", "_u", "_v", "_w", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w"):
+        return 0.0
+    off = st.offsets
+    values = {
+        "_plane": lambda: _PLANE_CODE[st.plane],
+        "_ccomp": lambda: _SIDE_CODE[st.side],
+        "_metric": lambda: float(u == 1.0),
+        "_imperial": lambda: float(u != 1.0),
+        "_absolute": lambda: float(st.absolute),
+        "_incremental": lambda: float(not st.absolute),
+        "_inverse_time": lambda: 0.0,
+        "_units_per_minute": lambda: 1.0,
+        "_units_per_rev": lambda: 0.0,
+        "_coord_system": lambda: 530.0 + 10 * off.index if off.index < 7 else 584.0 + off.index,
+        "_tool_offset": lambda: float(any(off.tool)),
+        "_retract_r_plane": lambda: float(not st.cycle.retract_old),
+        "_retract_old_z": lambda: float(st.cycle.retract_old),
+        "_spindle_rpm_mode": lambda: 1.0,
+        "_spindle_css_mode": lambda: 0.0,
+        "_ijk_absolute_mode": lambda: float(st.ijk_absolute),
+        "_lathe_diameter_mode": lambda: 0.0,
+        "_lathe_radius_mode": lambda: 1.0,
+        "_spindle_on": lambda: float(st.spindle != 0),
+        "_spindle_cw": lambda: float(st.spindle > 0),
+        "_mist": lambda: float(st.mist),
+        "_flood": lambda: float(st.flood),
+        "_feed": lambda: st.feed,
+        "_rpm": lambda: st.speed,
+        "_current_tool": lambda: float(st.spindle_tool),
+        "_selected_tool": lambda: float(-1 if st.selected_tool is None else st.selected_tool),
+    }
+    if name == "_motion_mode":
+        return 800.0 if st.motion is None else st.motion * 10.0
+    fn = values.get(name)
+    if name in ("_x", "_y", "_z") or fn is None:
+        return None
+    if name in ("_absolute", "_coord_system"):
+        off.start()
+    return fn()
 
 
 def read_rs274(
     text: str,
     file: str = "<program>",
     tools: LinuxCncToolTable | str | os.PathLike[str] | None = None,
-    tool_unit: ToolUnit | str = ToolUnit.INCH,
+    tool_unit: ToolUnit | str = ToolUnit.PROGRAM,
+    parameters: str | os.PathLike[str] | None = None,
 ) -> NcProgram:
     """Read an RS274NGC program; never raises for a problem in the program (see the module
-    docstring). ``tools``: a LinuxCNC tool table or a path to one (read in ``tool_unit``);
-    default: ``<stem>.tbl``/``tools.tbl`` beside ``file``."""
-    return Rs274Reader(file, tools, tool_unit).read(text)
+    docstring). ``tools``: a LinuxCNC tool table or a path to one (read in ``tool_unit``, the
+    machine unit); default: ``<stem>.tbl``/``tools.tbl`` beside ``file``."""
+    return Rs274Reader(file, tools, tool_unit, parameters=parameters).read(text)
 
 
 def read_ngc(text: str, options: ReadOptions) -> NcProgram:
@@ -430,5 +271,5 @@ def read_ngc(text: str, options: ReadOptions) -> NcProgram:
     if table is None and options.tools is not None:
         # preset edges are SINUMERIK tool data, not a LinuxCNC table: the program reads with an
         # empty table (and, as any table given, none is looked up beside the program)
-        table = LinuxCncToolTable()
+        table = LinuxCncToolTable(unit=options.tool_unit)
     return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit)

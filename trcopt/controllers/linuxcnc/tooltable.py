@@ -18,7 +18,7 @@ from trcopt.codes import Code
 from trcopt.errors import ConfigError, SourceSpan
 from trcopt.modes import ToolUnit, parse_enum
 
-__all__ = ["LinuxCncTool", "LinuxCncToolTable", "load_tbl", "parse_tbl", "find_tbl"]
+__all__ = ["LinuxCncTool", "LinuxCncToolTable", "NgcSettings", "load_parameters", "load_tbl", "parse_tbl", "find_tbl"]
 _WORD = re.compile(r"([A-Za-z])\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
 _KNOWN = set("TPXYZABCUVWDIJQ")
 
@@ -33,6 +33,8 @@ class LinuxCncTool:
     orientation: int = 0
     z_offset_mm: float = 0.0
     comment: str = ""
+    x_offset_mm: float = 0.0
+    y_offset_mm: float = 0.0
 
     @property
     def radius_mm(self) -> float:
@@ -59,7 +61,8 @@ class LinuxCncToolTable:
 
 
 def _unit(unit: ToolUnit | str) -> ToolUnit:
-    """The table's unit; ``in``/``inches`` are read as inch, anything unknown is a ConfigError."""
+    """The table's unit; ``in``/``inches`` are read as inch, anything unknown is a ConfigError
+    (``program``: the lengths are kept as written, the reader scales them by the program's unit)."""
     key = unit if isinstance(unit, ToolUnit) else {"in": "inch", "inches": "inch"}.get(str(unit).strip().lower(), unit)
     try:
         return parse_enum(ToolUnit, key, "tool table unit")
@@ -106,6 +109,8 @@ def parse_tbl(text: str, unit: ToolUnit | str = ToolUnit.INCH, source: str = "<t
             orientation=int(words.get("Q", 0)),
             z_offset_mm=words.get("Z", 0.0) * k,
             comment=comment.strip(),
+            x_offset_mm=words.get("X", 0.0) * k,
+            y_offset_mm=words.get("Y", 0.0) * k,
         )
     return LinuxCncToolTable(tools, table_unit, source)
 
@@ -130,3 +135,64 @@ def find_tbl(program: str) -> Path | None:
         if cand.is_file():
             return cand
     return None
+
+
+@dataclass(frozen=True, slots=True)
+class NgcSettings:
+    """What ``rs274ngc.toml`` sets: parameter values (the machine unit, as LinuxCNC's parameter
+    file) and the G73/G83 peck clearances (program units, LinuxCNC's ``G73_PECK_CLEARANCE``)."""
+
+    parameters: dict[int, float] = field(default_factory=dict)
+    peck_clearance: dict[float, float] = field(default_factory=dict)
+    source: str = ""
+
+
+PARAMS_FILE = "rs274ngc.toml"
+
+
+def load_parameters(
+    path: str | os.PathLike[str] | None, table: str | os.PathLike[str] | None, program: str
+) -> NgcSettings:
+    """Read ``path``, else ``rs274ngc.toml`` beside the tool table ``table``, else beside
+    ``program`` (none found: no settings)::
+
+        [parameters]          # numbered parameters, e.g. the G28 reference point
+        5161 = 0.0
+        5163 = 50.0
+        [rs274ngc]
+        g73_peck_clearance = 1.0
+        g83_peck_clearance = 1.0
+    """
+    if path is None:
+        for base in (table, program):
+            if base is None:
+                continue
+            cand = Path(base).with_name(PARAMS_FILE)
+            if Path(base).name and cand.is_file():
+                path = cand
+                break
+    if path is None:
+        return NgcSettings()
+    import tomllib
+
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"cannot read {p}: {exc.strerror}", code=Code.IO) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{p}: {exc}") from None
+    unknown = set(data) - {"parameters", "rs274ngc"}
+    if unknown:
+        raise ConfigError(f"{p}: unknown table(s) {sorted(unknown)}; valid: [parameters], [rs274ngc]")
+    params: dict[int, float] = {}
+    for key, value in dict(data.get("parameters", {})).items():
+        if not str(key).isdigit() or not 1 <= int(key) <= 5601 or not isinstance(value, (int, float)):
+            raise ConfigError(f"{p}: [parameters] {key} = {value!r}: a parameter number 1…5601 and a number")
+        params[int(key)] = float(value)
+    peck: dict[float, float] = {}
+    for key, value in dict(data.get("rs274ngc", {})).items():
+        if key not in ("g73_peck_clearance", "g83_peck_clearance") or not isinstance(value, (int, float)):
+            raise ConfigError(f"{p}: [rs274ngc] {key} = {value!r}: g73_peck_clearance or g83_peck_clearance, a number")
+        peck[73.0 if key.startswith("g73") else 83.0] = float(value)
+    return NgcSettings(params, peck, str(p))

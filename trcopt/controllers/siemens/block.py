@@ -25,9 +25,7 @@ __all__ = ["Block", "WordReader"]
 
 # words that would change the geometry behind trcopt's back: stop rather than guess
 _GEOMETRY_WORDS = {
-    "TRANS", "ATRANS", "CTRANS", "ROT", "AROT", "ROTS", "AROTS", "CROTS", "RPL", "SCALE",
-    "ASCALE", "MIRROR", "AMIRROR", "AP", "RP", "CIP", "CT", "ASPLINE", "BSPLINE", "CSPLINE",
-    "POLY",
+    "CTRANS", "ROTS", "AROTS", "CROTS", "ASPLINE", "BSPLINE", "CSPLINE", "POLY",
 }  # fmt: skip
 #: words that decide which blocks run or where the tool goes and that trcopt does not model: an
 #: error, never an ignored word (the program would be planned along a path the machine does not run)
@@ -40,14 +38,19 @@ _MOTION_WORDS = {
     # subprograms and cycles
     "CALL": "a subprogram call", "PCALL": "a subprogram call", "MCALL": "a modal cycle call",
     "EXTCALL": "a subprogram call", "L": "a subprogram call",
-    # machine coordinates and kinematic transformations
-    "SUPA": "a move in machine coordinates", "TRAORI": "a kinematic transformation",
+    # kinematic transformations
+    "TRAORI": "a kinematic transformation",
     "TRANSMIT": "a kinematic transformation", "TRACYL": "a kinematic transformation",
     "TRAANG": "a kinematic transformation",
     # procedures (DEF is read by trcopt.controllers.siemens.variables)
     "PROC": "a subprogram definition", "SAVE": "a subprogram attribute",
 }  # fmt: skip
-_MOTION_G = {53: "a move in machine coordinates", 153: "a move in machine coordinates"}
+_MOTION_G: dict[int, str] = {}
+#: program-flow words: read by trcopt.controllers.siemens.flow where they stand right; elsewhere a syntax error
+_FLOW_WORDS = frozenset(
+    ["GOTOF", "GOTOB", "GOTO", "GOTOC", "IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT",
+     "REPEATB", "UNTIL", "LOOP", "ENDLOOP", "PROC", "EXTERN", "MCALL"]
+)  # fmt: skip
 #: keywords without a value that are known not to move the tool (reported and ignored); any other
 #: unknown name on its own may be a subprogram call and stops the program
 _QUIET_KEYWORDS = {
@@ -85,6 +88,12 @@ class Block:
     fad: tuple[float, str] | None = None
     sar_param: Word | None = None  # first SAR parameter word (for the warning without SAR)
     end = False
+    machine = 0  # column of G53/G153/SUPA (0: none): the axis values are machine positions
+    pole: tuple[int, int] | None = None  # (G110/G111/G112, column)
+    ap: tuple[float, bool] | None = None  # AP= (degrees, absolute?)
+    rp: tuple[float, bool] | None = None  # RP= (mm, absolute?)
+    inter: list[tuple[float, bool] | None] | None = None  # CIP intermediate point I1, J1, K1
+    cycle: Word | None = None  # CYCLE81…83 called in this block
 
     def __init__(self) -> None:
         self.axes: list[tuple[float, bool] | None] = [None, None, None]
@@ -170,6 +179,13 @@ class WordReader:
                 Code.NC_UNSUPPORTED,
                 f"{word.text}: {word.name} is neither an R-parameter nor a DEF array; indexed addresses "
                 "are not modelled by trcopt",
+                self._at(span, word),
+            )
+        if word.name in _FLOW_WORDS:
+            raise fail(
+                Code.NC_SYNTAX,
+                f"{word.text}: a program-flow word where it cannot stand (a control structure stands alone in its "
+                "block; a jump ends its block with its destination: GOTOF LABEL)",
                 self._at(span, word),
             )
         what = _motion_word(word)

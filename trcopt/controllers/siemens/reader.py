@@ -1,6 +1,8 @@
 """SINUMERIK 840D sl dialect: reads a program block by block into canonical moves.
 
-Each line is lexed (:mod:`trcopt.controllers.siemens.lexer`), its words are dispatched to the handlers of
+The program is scanned into statements (:mod:`trcopt.controllers.siemens.flow`: control structures,
+jumps, calls, lexed blocks) and run by :mod:`trcopt.controllers.siemens.runner` (program counter,
+subprograms); each block's words are dispatched to the handlers of
 :mod:`trcopt.controllers.siemens.words`, and :meth:`SiemensReader._finish` completes the block:
 plane change (alarm 10757), T/D selection, compensation side (tool type check), feed, end point,
 arc centre (I/J/K, ``=AC``, ``CR=``) with the end radius check, SAR words, and the
@@ -9,17 +11,23 @@ arc centre (I/J/K, ``=AC``, ``CR=``) with the end radius check, SAR words, and t
 
 from __future__ import annotations
 
+import dataclasses
 import gc
 import math
 import re
 
 from trcopt.codes import Code
-from trcopt.controllers.siemens.block import _GEOMETRY_WORDS, _MOTION_WORDS, _QUIET_KEYWORDS, Block
-from trcopt.controllers.siemens.lexer import Expr, LexedBlock, LexError, Word, lex_line
+from trcopt.controllers.siemens.block import _GEOMETRY_WORDS, _MOTION_WORDS, _QUIET_CALLS, _QUIET_KEYWORDS, Block
+from trcopt.controllers.siemens.flow import scan
+from trcopt.controllers.siemens.frames import FRAME_WORDS, IDENTITY, find_zero_offsets, load_zero_offsets
+from trcopt.controllers.siemens.lexer import Expr, LexedBlock, Word
+from trcopt.controllers.siemens.motion import MotionGeometry
 from trcopt.controllers.siemens.path_control import PathControlState
-from trcopt.controllers.siemens.variables import DEF_LINE, Variables
+from trcopt.controllers.siemens.runner import ProgramRunner
+from trcopt.controllers.siemens.tooldata import find_tool_table, load_tool_table
+from trcopt.controllers.siemens.variables import Variables
 from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
-from trcopt.errors import AlarmError, ConfigError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
 from trcopt.modes import Side
 from trcopt.nc.modal import (
@@ -30,9 +38,9 @@ from trcopt.nc.modal import (
     arc_radius_mismatch,
     fail,
 )
-from trcopt.nc.model import Move, MoveKind, NcProgram, SarSpec
+from trcopt.nc.model import CompState, Move, MoveKind, NcProgram, SarSpec
 from trcopt.nc.text import program_lines
-from trcopt.nc.tools import ToolTable
+from trcopt.nc.tools import ToolEdge, ToolTable
 
 __all__ = ["SiemensReader", "read_siemens"]
 
@@ -40,20 +48,36 @@ _RAPID, _ARC, _NONE = MoveKind.RAPID, MoveKind.ARC, MoveKind.NONE
 #: names a DEF variable may not take: addresses and keywords trcopt reads or refuses
 _RESERVED = frozenset(
     [*WORD_HANDLERS, *_MOTION_WORDS, *_GEOMETRY_WORDS, *_QUIET_KEYWORDS, "PROC", "REAL", "INT", "BOOL", "CHAR",
-     "STRING", "AXIS", "FRAME", "SUPA", "CIP", "CT"]
+     "STRING", "AXIS", "FRAME", "SUPA", "CIP", "CT", *FRAME_WORDS, "RPL", "EXTERN", "MCALL", "RET"]
 )  # fmt: skip
+#: names alone in a block that are words, not subprogram calls
+_KNOWN = frozenset([*_RESERVED, *_QUIET_CALLS, "ENDLABEL"])
 
 
-class SiemensReader(SiemensWords):
+class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
     """Reads one SINUMERIK program (one instance per read)."""
 
     name = "siemens"
 
-    def __init__(self, options: ReadOptions) -> None:
+    known_words = _KNOWN
+
+    def __init__(self, options: ReadOptions, tools: dict[tuple[int, int], ToolEdge] | None = None,
+                 tool_source: str = "") -> None:  # fmt: skip
         self.options = options
-        self.file = options.file
+        self.file = self.main_file = options.file
         self.tol = options.tolerances
-        self.state = ModalState(ToolTable(options.tools))
+        self.state = ModalState(ToolTable({**(tools or {}), **(options.tools or {})}))
+        self.tool_source = tool_source
+        self.frame = IDENTITY  # the programmable frame
+        self.settable = 500  # G500 after reset
+        self.reference: int | None = None  # the settable zero offset of the plan's coordinates
+        self.zero = None
+        self.zero_source = "no zero-offset file (--zero-offsets, or <program>.offsets.toml beside the program)"
+        self.circle = 1  # motion group 1: G0…G3, CIP (-1), CT (-2)
+        self.pole = (0.0, 0.0)
+        self.polar = [0.0, 0.0]  # modal AP (degrees), RP (mm)
+        self.mcall: tuple[str, str, int] | None = None
+        self._runs: dict[tuple[str, int], int] = {}  # how often each block ran
         self.moves: list[Move] = []
         self.diagnostics: list[Diagnostic] = []
         self.carriers: dict[int, dict[int, object]] = {}
@@ -82,46 +106,20 @@ class SiemensReader(SiemensWords):
                 gc.enable()
 
     def _read(self, text: str) -> NcProgram:
-        lines = program_lines(text)
         ended = failed = False
-        for lineno, line in enumerate(lines, 1):
-            definition = DEF_LINE.match(line)
-            if definition is not None:
-                self.blocks += 1
-                try:
-                    self._define(line, lineno, definition)
-                except AlarmError as exc:
-                    self.diagnostics.append(exc.diagnostic)
-                    failed = True
-                    break
-                continue
-            try:
-                lexed = lex_line(line)
-            except LexError as exc:
-                span = SourceSpan(self.file, lineno, exc.column, exc.block)
-                self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_SYNTAX, exc.message, span))
-                self.blocks += 1
-                failed = True
-                break
-            if not lexed.words and lexed.label is None:
-                continue
-            self.blocks += 1
-            try:
-                ended = self._block(lexed, lineno)
-            except AlarmError as exc:
-                self.diagnostics.append(exc.diagnostic)
-                failed = True
-                break
-            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
-                span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
-                message = f"internal error while reading this block: {exc!r}"
-                self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
-                failed = True
-                break
-            if ended:
-                break
+        try:
+            program = scan(text, self.file, "", self.known_words)
+            ended = self._run(program)
+        except AlarmError as exc:
+            self.diagnostics.append(exc.diagnostic)
+            failed = True
+        except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
+            span = self._current_span()
+            message = f"internal error while reading this block: {exc!r}"
+            self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
+            failed = True
         if not ended and not failed:
-            span = SourceSpan(self.file, max(len(lines), 1), 1)
+            span = SourceSpan(self.main_file, max(len(program_lines(text)), 1), 1)
             self._warn(Code.NC_NO_END, "program has no end (M2/M30)", span)
         extras: dict[str, object] = {
             "carriers": self.carriers,
@@ -129,13 +127,21 @@ class SiemensReader(SiemensWords):
             "tools": self.state.tools.as_dict(),
         }
         return NcProgram(
-            file=self.file,
+            file=self.main_file,
             dialect=self.name,
             moves=tuple(self.moves),
             diagnostics=tuple(self.diagnostics),
             blocks=self.blocks,
             extras=extras,
         )
+
+    def _current_span(self) -> SourceSpan:
+        levels = getattr(self, "levels", None)
+        if not levels:
+            return SourceSpan(self.file, 1, 1)
+        level = levels[-1]
+        st = level.program.statements[max(level.pc - 1, 0)] if level.program.statements else None
+        return SourceSpan(self.file, 1, 1) if st is None else st.span(level.program.file)
 
     def _define(self, line: str, lineno: int, m: re.Match[str]) -> None:
         """A DEF block: only in the definition part, before the first executable block."""
@@ -165,14 +171,21 @@ class SiemensReader(SiemensWords):
             self._warn(Code.NC_UNSUPPORTED_WORD, message, self._at(span, word))
 
     def _block(self, lexed: LexedBlock, lineno: int) -> bool:
-        span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number)
+        key = (self.file, lineno)
+        run = self._runs.get(key, -1) + 1
+        self._runs[key] = run
+        span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number, None, None, run)
         self._executable = True
         b = Block()
         if lexed.label is not None:
             b.actions.append(lexed.label + ":")
         handlers = WORD_HANDLERS
         variables = self.variables
-        for word in lexed.words:
+        words = lexed.words
+        if words and words[0].name in FRAME_WORDS:
+            self._frame_block(words, span)
+            words = []
+        for word in words:
             handler = handlers.get(word.name)
             if handler is None:
                 if word.name[0] == "$":
@@ -183,7 +196,14 @@ class SiemensReader(SiemensWords):
                     self._unsupported(word, b, span)
             else:
                 handler(self, word, b, span)
+        self._moved = False
         self._finish(b, span)
+        if b.cycle is not None:
+            cycle = b.cycle
+            column = cycle.column + len(cycle.name) + 1
+            self._run_cycle(cycle.name, cycle.subscript or "", column, self._at(span, cycle))
+        elif self.mcall is not None and self._moved:
+            self._run_cycle(*self.mcall, span)
         return b.end
 
     # ------------------------------------------------------------------ block completion
@@ -213,6 +233,13 @@ class SiemensReader(SiemensWords):
             side, col = b.side
             if side is not Side.OFF:
                 edge = st.active_edge()
+                if edge is None and st.tool is not None and st.edge:
+                    raise AlarmError(alarm(
+                        10750,
+                        f"G{40 + (side is Side.RIGHT) + 1} with T{st.tool} D{st.edge}: no data for this tool edge "
+                        f"($TC_DP… in the program, then {self.tool_source or 'the tools given'})",
+                        SourceSpan(self.file, span.line, col, span.block),
+                    ))  # fmt: skip
                 if edge is not None and not edge.supports_trc:
                     raise fail(
                         Code.NC_TOOL_TYPE,
@@ -229,42 +256,23 @@ class SiemensReader(SiemensWords):
                 )
             st.feed_mm_s = b.feed * self.feed_scale / 60.0
         if b.motion is not None:
-            st.motion = MOTION_KINDS[b.motion[0]]
-            self.arc_ccw = b.motion[0] == 3
-        # end point
+            code = b.motion[0]
+            st.motion = MOTION_KINDS.get(code, _ARC)
+            self.circle = code
+            self.arc_ccw = code == 3
         pos = st.position
-        axes = b.axes
-        ax, ay, az = axes
-        any_axis = ax is not None or ay is not None or az is not None
-        if any_axis:
-            end = (
-                pos[0] if ax is None else (ax[0] if ax[1] else pos[0] + ax[0]),
-                pos[1] if ay is None else (ay[0] if ay[1] else pos[1] + ay[0]),
-                pos[2] if az is None else (az[0] if az[1] else pos[2] + az[0]),
-            )
-        else:
-            end = pos
+        kind, end, center, ccw, plane_programmed, span = self._geometry(b, span)
         plane = st.plane
-        u, v = self._plane_uv
-        plane_programmed = axes[u] is not None or axes[v] is not None
-        has_centre = b.centre_col != 0
         motion = st.motion
-        center = None
-        ccw = None
-        if motion is _ARC and (any_axis or has_centre):
-            kind = _ARC
-            ccw = self.arc_ccw
-            center = self._arc_centre(b, pos, end, ccw, span)
-        elif any_axis:
-            kind = motion
-            if has_centre:
-                self._warn(
-                    Code.NC_UNSUPPORTED_WORD,
-                    "circle centre/radius outside G2/G3 ignored",
-                    SourceSpan(self.file, span.line, b.centre_col, span.block),
-                )
-        else:
-            kind = _NONE
+        ax, ay, az = b.axes
+        self._moved = kind is not _NONE
+        if b.sar is not None and self.frame is not IDENTITY:
+            f = self.frame
+            wi = plane.axes[2]
+            if f.m[wi][wi] != 1.0 or f.t[wi] != 0.0 or abs(abs(f.m[plane.axes[0]][plane.axes[0]] ** 2
+                                                            + f.m[plane.axes[1]][plane.axes[0]] ** 2) - 1.0) > 1e-12:
+                raise fail(Code.NC_FRAME, "SAR under a frame that scales the plane or moves the applicate is not "
+                           "modelled by trcopt", span)  # fmt: skip
         sar = None
         if b.sar is not None:
             sar = SarSpec(
@@ -298,7 +306,7 @@ class SiemensReader(SiemensWords):
                 end=end,
                 plane=plane,
                 span=span,
-                comp=st.comp_state(side_programmed),
+                comp=self._comp(side_programmed),
                 feed_mm_s=feed,
                 center=center,
                 ccw=ccw,
@@ -310,6 +318,13 @@ class SiemensReader(SiemensWords):
             )
         )
         st.position = end
+
+    def _comp(self, side_programmed: bool) -> CompState:
+        """The compensation snapshot; a frame that mirrors the plane swaps G41 and G42."""
+        comp = self.state.comp_state(side_programmed)
+        if self.frame is IDENTITY or comp.side is Side.OFF or not self.frame.mirrored(self.state.plane):
+            return comp
+        return dataclasses.replace(comp, side=Side.RIGHT if comp.side is Side.LEFT else Side.LEFT)
 
     def _arc_centre(
         self,
@@ -368,11 +383,18 @@ class SiemensReader(SiemensWords):
 
 
 def read_siemens(text: str, options: ReadOptions) -> NcProgram:
-    """Read a SINUMERIK program; tool data come from its ``$TC_DP`` assignments (or
-    ``options.tools``), never from a tool-table file."""
-    if options.tool_table is not None:
-        raise ConfigError(
-            "SINUMERIK programs take their tool data from $TC_DP assignments (or the tools= "
-            "mapping), not from a tool-table file"
-        )
-    return SiemensReader(options).read(text)
+    """Read a SINUMERIK program. Tool data: the TOML tool table ``options.tool_table`` (default: the
+    one beside the program, :func:`~trcopt.controllers.siemens.tooldata.find_tool_table`), then
+    ``options.tools``, then the program's ``$TC_DP`` assignments; zero offsets: ``options.zero_offsets``
+    (default: the one beside the program). An invalid file raises :class:`~trcopt.errors.ConfigError`."""
+    path = options.tool_table if options.tool_table is not None else find_tool_table(options.file)
+    if path is not None:
+        tools = load_tool_table(path)
+        source = f"the tool table {path}"
+    else:
+        tools = {}
+        source = "no tool table (--tool-table; none beside the program: <program>.tools.toml, tools.toml)"
+    reader = SiemensReader(options, tools, source)
+    if options.zero_offsets is not None or find_zero_offsets(options.file) is not None:
+        reader.zero = load_zero_offsets(options.zero_offsets or find_zero_offsets(options.file))  # type: ignore[arg-type]
+    return reader.read(text)

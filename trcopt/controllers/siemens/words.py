@@ -6,9 +6,11 @@
 their position in it; words whose effect needs a check (plane, compensation side, T/D, feed, axes,
 SAR) are collected in a :class:`~trcopt.controllers.siemens.block.Block` and applied when the block
 is complete (:mod:`trcopt.controllers.siemens.reader`); how a word's value reads is
-:class:`~trcopt.controllers.siemens.block.WordReader`. Everything trcopt does not implement is reported (warning
+:class:`~trcopt.controllers.siemens.block.WordReader`. Frames, zero offsets, polar coordinates,
+CIP/CT act through :mod:`~trcopt.controllers.siemens.motion`, drilling cycles through
+:mod:`~trcopt.controllers.siemens.cycles`. Everything trcopt does not implement is reported (warning
 ``NC-UNSUPPORTED-WORD``) and kept in the move's actions; words that would change the geometry
-without trcopt knowing (frames, polar coordinates, splines) stop the program.
+without trcopt knowing (splines, thread cutting) stop the program.
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ from collections.abc import Callable
 
 from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block, WordReader
+from trcopt.controllers.siemens.cycles import CYCLES, DrillingCycles
+from trcopt.controllers.siemens.frames import SETTABLE_G
 from trcopt.controllers.siemens.lexer import Expr, Word
 from trcopt.controllers.siemens.path_control import PATH_CONTROL_G, cycle832_arguments
 from trcopt.errors import AlarmError, SourceSpan, alarm
@@ -51,7 +55,8 @@ _APPROACH = {m.value: m for m in ApproachMode}
 _COLLISION = {m.value: m for m in CollisionMode}
 _END_M = {2, 30, 17}
 _INCH = 25.4
-_GEOMETRY_G = {33, 34, 35, 110, 111, 112, 331, 332}
+_GEOMETRY_G = {33, 34, 35, 331, 332}
+_CIRCLES = {"CIP": -1, "CT": -2}  # motion codes beside G0…G3 (trcopt.controllers.siemens.motion)
 _TOOLHOLDER_WORDS = ("TCOABS", "TCOFR", "TCOFRZ", "TCOFRY", "TCOFRX")
 
 
@@ -63,7 +68,7 @@ def _fmt(value: float) -> str:
 Handler = Callable[["SiemensWords", Word, Block, SourceSpan], None]
 
 
-class SiemensWords(WordReader):
+class SiemensWords(DrillingCycles, WordReader):
     """Word handlers of the SINUMERIK reader (state lives in :class:`~.block.WordReader`)."""
 
     # ------------------------------------------------------------------ word handlers
@@ -92,6 +97,40 @@ class SiemensWords(WordReader):
                 self._at(span, word),
             )
         b.motion = (g, word.column)
+
+    def _circle(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """CIP (circle through an intermediate point) and CT (tangential circle): motion group 1."""
+        self._keyword(word, span)
+        self._g_motion(_CIRCLES[word.name], word, b, span)
+
+    def _g_frames(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
+        """G53/G153 (machine coordinates in this block), G54…G599/G500 (settable zero offsets), G110…G112 (pole)."""
+        if g in (53, 153):
+            b.machine = b.machine or word.column
+        elif g in (110, 111, 112):
+            b.pole = (g, word.column)
+        else:
+            self._settable(g, word.text, b.actions)  # type: ignore[attr-defined]
+
+    def _supa(self, word: Word, b: Block, span: SourceSpan) -> None:
+        self._keyword(word, span)
+        b.machine = b.machine or word.column
+
+    def _polar(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """AP= (polar angle, degrees) and RP= (polar radius), =IC(..) incremental."""
+        value, absolute = self._positional(word, span, self.absolute)
+        if word.name == "AP":
+            b.ap = (value / self.geom_scale, absolute)
+        else:
+            if absolute and value < 0.0:
+                raise fail(Code.NC_SYNTAX, f"{word.text}: the polar radius must not be negative", self._at(span, word))
+            b.rp = (value, absolute)
+
+    def _intermediate(self, word: Word, b: Block, span: SourceSpan) -> None:
+        """I1=, J1=, K1=: the intermediate point of CIP."""
+        if b.inter is None:
+            b.inter = [None, None, None]
+        b.inter["IJK".index(word.name[0])] = self._positional(word, span, self.absolute)
 
     def _g_plane(self, g: int, word: Word, b: Block, span: SourceSpan) -> None:
         b.plane = (_PLANES[g], word.column)
@@ -369,6 +408,8 @@ def _g_table() -> dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan
         table[g] = SiemensWords._g_mode
     for g in [9, *PATH_CONTROL_G]:
         table[g] = SiemensWords._g_path
+    for g in [53, 153, 110, 111, 112, *SETTABLE_G]:
+        table[g] = SiemensWords._g_frames
     return table
 
 
@@ -406,6 +447,15 @@ WORD_HANDLERS: dict[str, Handler] = {
     "ADISPOS": SiemensWords._rounding,
     "CTOL": SiemensWords._rounding,
     "CYCLE832": SiemensWords._cycle832,
+    "CIP": SiemensWords._circle,
+    "CT": SiemensWords._circle,
+    "SUPA": SiemensWords._supa,
+    "AP": SiemensWords._polar,
+    "RP": SiemensWords._polar,
+    "I1": SiemensWords._intermediate,
+    "J1": SiemensWords._intermediate,
+    "K1": SiemensWords._intermediate,
+    **{name: SiemensWords._cycle_word for name in CYCLES},
     **{name: SiemensWords._approach for name in _APPROACH},
     **{name: SiemensWords._collision for name in _COLLISION},
     **{name: SiemensWords._toolholder for name in _TOOLHOLDER_WORDS},
