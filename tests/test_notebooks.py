@@ -20,3 +20,7 @@ def test_notebook_executes(path: Path) -> None:
     client.execute()
     errors = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", []) if o.output_type == "error"]
     assert not errors
+    # a notebook that draws shows its figures (no non-interactive backend switched on before plt.show())
+    if "matplotlib.pyplot" in "".join(c.source for c in nb.cells if c.cell_type == "code"):
+        figures = [o for c in nb.cells for o in c.get("outputs", []) if "image/png" in o.get("data", {})]
+        assert figures, f"{path.name} shows no figure"

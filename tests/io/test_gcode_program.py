@@ -258,3 +258,40 @@ def test_the_command_line_writes_the_safe_program(tmp_path: Path) -> None:
     main(["plan", str(program), "--no-timing", "-q", "--gcode", str(out)])
     text = out.read_text()
     assert "N60 T3 M6 ; N10 L4" in text and "D1 S8000 M3 M8" in text and "X0 Y0 Z0" not in text
+
+
+# ------------------------------------------------------------------------------ grbl
+def test_the_grbl_flavour_is_plain_iso_that_replans_to_the_same_path() -> None:
+    """grbl output: no block numbers, no path-control or tool-change words, parenthesised comments,
+    arcs with incremental centres; read back as RS274NGC it gives the same tool-centre path."""
+    from trcopt.io.flavors import GRBL
+
+    first = _planned(CAM_SIEMENS, "cam.mpf")
+    text = plan_to_gcode(first, flavor=GRBL, dialect="grbl", decimals=6)
+    codes = [c for c in (_code(ln) for ln in text.splitlines()) if c]
+    assert codes[0].split() == ["G21", "G90", "G94", "G40", "G17"]
+    assert codes[-1] == "M2"
+    assert not any(re.match(r"N\d", c) for c in codes)
+    assert not any(re.search(r"\b(M0*6|T\d+|G64|G642|CTOL|D\d|G91\.1)\b", c) for c in codes), codes
+    assert not any(";" in ln for ln in text.splitlines())
+    # the tool change is a spindle stop and a program stop, named in a comment
+    stop = next(i for i, ln in enumerate(text.splitlines()) if _code(ln) == "M5 M0")
+    assert "tool change T3 M6" in text.splitlines()[stop - 1]
+    # the program's words grbl reads, in order
+    kept = [w for c in codes for w in c.split() if re.fullmatch(r"(M\d+|S\d+|G54)", w)]
+    assert kept == ["G54", "M5", "M0", "S8000", "M3", "M8", "M0", "M5", "M9", "M2"]
+    again = _planned(text, "out.ngc", corners="exact")
+    assert again.ok, [d.format() for d in again.errors]
+    assert _hausdorff(first.toolpath, again.toolpath) <= 1e-5
+    assert again.path_length == pytest.approx(first.path_length, abs=1e-5)
+
+
+def test_the_command_line_writes_grbl(tmp_path: Path) -> None:
+    from trcopt.cli import main
+
+    out = tmp_path / "p.nc"
+    prog = PROBLEMS / "siemens" / "ex17_cam_post.mpf"
+    assert main(["plan", str(prog), "--no-timing", "-q", "--gcode", str(out), "--gcode-flavor", "grbl"]) == 0
+    text = out.read_text()
+    assert "G0 G53 Z0.0" in text  # the SUPA retract stays in machine coordinates
+    assert "M5 M0" in text and text.rstrip().endswith("M2")

@@ -6,6 +6,8 @@ import math
 import re
 import xml.etree.ElementTree as ET
 
+import pytest
+
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import Arc, Line, Plane, hermite_curve
 from trcopt.io.svg import MAX_TOOL_CIRCLES, render_svg
@@ -102,22 +104,32 @@ def test_tool_circles_are_thinned_to_the_limit():
 def test_markers_for_located_diagnostics_and_explicit_points():
     programmed, toolpath = square()
     diags = [
-        Diagnostic(
-            Severity.WARNING, "10763", "path shortened", SourceSpan("sq.mpf", 4, 1, "N40"), 10763
-        ),
-        Diagnostic(
-            Severity.ERROR, "10751", "collision", SourceSpan("sq.mpf", 99, 1, "N990"), 10751
-        ),
+        Diagnostic(Severity.WARNING, "10751", "collision", SourceSpan("sq.mpf", 3, 1, "N30"), 10751),
+        Diagnostic(Severity.WARNING, "10763", "path shortened", SourceSpan("sq.mpf", 4, 1, "N40"), 10763),
+        Diagnostic(Severity.ERROR, "10751", "collision", SourceSpan("sq.mpf", 99, 1, "N990"), 10751),
+        Diagnostic(Severity.WARNING, "TRC-CONTOUR-VIOLATION", "elsewhere", SourceSpan("sq.mpf", 77, 1)),
         Diagnostic(Severity.INFO, "LCNC-TOOL-TABLE", "note", SourceSpan("sq.mpf", 3, 1)),
     ]
     text = render_svg(programmed, toolpath, diags, markers=[(20.0, 20.0, "mine")])
     root = parse(text)
     marks = root.findall(".//s:g[@class='markers']/s:circle", NS)
-    centres = sorted((float(m.get("cx")), float(m.get("cy"))) for m in marks)
-    # the warning sits at the start of the first toolpath segment of line 4 (the corner arc)
-    assert centres == [(-5.0, -40.0), (20.0, -20.0)]
-    assert "warning 10763 (N40)" in text
-    assert "not located" in text and "10751" in text
+    centres = [(float(m.get("cx")), float(m.get("cy"))) for m in marks]
+    assert centres == [
+        (20.0, -20.0),  # the explicit marker
+        (-5.0, -0.0),  # a warning: the start of the first tool-path segment of its line (N30)
+        (20.0, -40.0),  # the omitted block N40 (10763): the middle of its programmed block
+        (60.0, -60.0),  # an error no segment carries: where the path ends (the program stopped)
+    ]
+    omitted = root.findall(".//s:g[@class='omitted']/s:path", NS)
+    assert [p.get("data-line") for p in omitted] == ["4"] and omitted[0].get("stroke-dasharray")
+    labels = [t.text for t in root.findall(".//s:g[@class='labels']/s:text", NS)]
+    assert labels == ["start", "mine", "1. warning 10751 (N30)", "2. omitted: warning 10763 (N40)",
+                      "3. stopped: error 10751 (N990)"]
+    notes = [t.text for t in root.findall(".//s:g[@class='legend']/s:text", NS)]
+    assert "2. sq.mpf:4:1: warning 10763 (N40): path shortened — omitted block" in notes
+    assert "3. sq.mpf:99:1: error 10751 (N990): collision — stopped here" in notes
+    assert "4. not located: sq.mpf:77:1: warning TRC-CONTOUR-VIOLATION: elsewhere" in notes
+    assert "note" not in " ".join(notes)  # an info is not marked
 
 
 def test_other_plane_segments_are_projected_and_polys_are_polylines():
@@ -137,3 +149,69 @@ def test_other_plane_segments_are_projected_and_polys_are_polylines():
 
 def test_empty_plan_still_renders():
     parse(render_svg([], []))
+
+
+def _inner_to_px(root: ET.Element):
+    """The map from drawing coordinates (u, v) to picture px of the inner view box (xMidYMid meet)."""
+    inner = root.find("s:svg", NS)
+    x, y, w, h = (float(inner.get(k)) for k in ("x", "y", "width", "height"))
+    bx, by, bw, bh = (float(t) for t in inner.get("viewBox").split())
+    s = min(w / bw, h / bh)
+    ox, oy = x + (w - bw * s) / 2, y + (h - bh * s) / 2
+    return lambda u, v: (ox + (u - bx) * s, oy + (-v - by) * s), s
+
+
+def test_axes_are_in_mm_at_the_right_places_with_a_scale_bar():
+    programmed, toolpath = square()
+    root = parse(render_svg(programmed, toolpath))
+    to_px, px_per_mm = _inner_to_px(root)
+    axes = root.find("s:g[@class='axes']", NS)
+    names = [t.text for t in axes.findall("s:text[@class='axis-name']", NS)]
+    assert names == ["X [mm]", "Y [mm]"]
+    # every x tick label sits under its value: "0" under u = 0, "20" under u = 20
+    ticks = {t.text: float(t.get("x")) for t in axes.findall("s:text[@text-anchor='middle']", NS)}
+    assert ticks["0"] == pytest.approx(to_px(0.0, 0.0)[0], abs=0.01)
+    assert ticks["20"] == pytest.approx(to_px(20.0, 0.0)[0], abs=0.01)
+    ys = {t.text: float(t.get("y")) - 3.5 for t in axes.findall("s:text[@text-anchor='end']", NS)}
+    assert ys["40"] == pytest.approx(to_px(0.0, 40.0)[1], abs=0.01)
+    bar = axes.find("s:path[@class='scale-bar']", NS).get("d").split()
+    label = axes.find("s:text[@class='scale-bar']", NS).text
+    assert label.endswith(" mm") and float(bar[6]) == pytest.approx(float(label.split()[0]) * px_per_mm, abs=0.01)
+    # the plane names the axes: G18 draws Z across and X up
+    g18 = [seg(Line((0, 0, 0), (10, 5, 0)), plane=Plane.G18)]
+    names = [t.text for t in parse(render_svg([], g18)).findall(".//s:text[@class='axis-name']", NS)]
+    assert names == ["Z [mm]", "X [mm]"]
+
+
+def test_direction_arrows_point_along_the_travel_and_the_start_is_marked():
+    programmed, toolpath = square()
+    root = parse(render_svg(programmed, toolpath))
+    arrows = root.findall(".//s:g[@class='arrows']/s:polygon", NS)
+    assert len(arrows) == len(toolpath)
+    # the second segment runs up (+v) along u = -5: its arrow tip is the highest point (smallest SVG y)
+    tri = [tuple(float(c) for c in p.split(",")) for p in arrows[1].get("points").split()]
+    assert tri[0][1] == min(y for _, y in tri) and all(x == pytest.approx(-5.0, abs=2.0) for x, _ in tri)
+    assert sum(y for _, y in tri) / 3 == pytest.approx(-20.0, abs=0.5)  # at the middle of (-5, 0) → (-5, 40)
+    start = root.find(".//s:g[@class='start']/s:polygon", NS)
+    assert [float(c) for c in start.get("points").split()[1].split(",")][1] == pytest.approx(10.0)  # at (-5, -10)
+
+
+def test_labels_are_never_clipped_at_the_right_edge():
+    # a mark at the right border of the drawing: its label goes to the left, inside the picture
+    toolpath = [seg(Line((0, 0, 0), (100, 0, 0)), line=1), seg(Line((100, 0, 0), (100, 1, 0)), line=2)]
+    diag = Diagnostic(Severity.ERROR, "10751", "collision danger", SourceSpan("sq.mpf", 2, 1, "N20"), 10751)
+    root = parse(render_svg([], toolpath, [diag], width_px=400))
+    (label,) = [t for t in root.findall(".//s:g[@class='labels']/s:text", NS) if "10751" in t.text]
+    assert label.text == "1. error 10751 (N20)"  # the full label, not clipped to "error"
+    assert label.get("text-anchor") == "end" and 6.2 * len(label.text) <= float(label.get("x")) <= 400
+    assert root.find("s:svg", NS).find("s:g[@class='markers']", NS) is not None
+    assert not root.find("s:svg", NS).findall(".//s:text", NS)  # no text inside the clipping view box
+
+
+def test_overlays_are_drawn_and_named_in_the_legend():
+    programmed, toolpath = square()
+    sar = [seg(Line((-20, -20, 0), (-5, -10, 0)), Role.APPROACH)]
+    root = parse(render_svg(programmed, toolpath, overlays=[("G147 (SAR default)", "#1f77b4", sar)]))
+    (group,) = root.findall(".//s:g[@class='overlay']", NS)
+    assert group.get("data-label") == "G147 (SAR default)" and group.find("s:path", NS).get("stroke") == "#1f77b4"
+    assert "G147 (SAR default)" in [t.text for t in root.findall(".//s:g[@class='legend']/s:text", NS)]

@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from typing import NamedTuple
 
 from trcopt import __version__
-from trcopt.cli.common import EXIT_USAGE, err
+from trcopt.cli.common import EXIT_USAGE, err_exc
 from trcopt.errors import TrcoptError
 
 __all__ = ["main", "build_parser", "COMMANDS", "Command"]
@@ -41,6 +41,7 @@ COMMANDS: dict[str, Command] = {
         "add_arguments",
         "optimal lead-in into the compensated contour, compared with G147/G247/G347",
     ),
+    "batch": Command("trcopt.cli.batch", "add_arguments", "plan many programs × option sets into one results table"),
 }
 
 
@@ -80,7 +81,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's flush at exit
         return status
     except TrcoptError as exc:
-        err(str(exc))
+        err_exc(exc)
         return EXIT_USAGE
     except KeyboardInterrupt:
         # Ctrl-C: every output is written atomically, so none is left half-written; no traceback

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from trcopt import controllers
+from trcopt.cli.common import check_outputs, err, err_exc
 from trcopt.codes import Code
 from trcopt.modes import LeadObjective
 
@@ -39,6 +40,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--out", action="store_true",
         help="plan the lead-out instead: from the contour end to the end point of the deselection block",
     )
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress display")
     p.set_defaults(handler=run_leadin)
 
 
@@ -99,11 +101,23 @@ def lead_inputs_from_plan(result: Any) -> dict[str, Any]:
 
 def run_leadin(args: argparse.Namespace) -> int:
     """Run ``trcopt leadin``; returns the exit code (no tracebacks for user errors)."""
+    from trcopt.progress import reporting, stage, terminal_reporter
+
+    problem = check_outputs([args.json_out, args.gcode_out, args.svg_out], inputs=[args.program])
+    if problem:
+        err(problem, code="OUTPUT")
+        return 2
+    with reporting(terminal_reporter(quiet=getattr(args, "quiet", False))), stage(f"lead for {args.program}"):
+        return _run_leadin(args)
+
+
+def _run_leadin(args: argparse.Namespace) -> int:
     from trcopt.config import DEFAULT_MACHINE, load_machine
     from trcopt.errors import SolverError, TrcoptError
     from trcopt.optimize.leads.leadin import optimal_lead
-    from trcopt.optimize.leads.report import compare_with_sar, leadin_gcode, leadin_svg
+    from trcopt.optimize.leads.report import compare_with_sar, leadin_gcode
     from trcopt.pipeline import PlanOptions, plan_file
+    from trcopt.progress import stage
 
     try:
         machine = load_machine(args.machine) if getattr(args, "machine", None) else DEFAULT_MACHINE
@@ -112,31 +126,34 @@ def run_leadin(args: argparse.Namespace) -> int:
         if not res.ok:
             for d in res.errors:
                 print(d.format(), file=sys.stderr)
-            print(
-                f"error: {args.program}: the program raised an alarm before the lead could be planned", file=sys.stderr
-            )
+            code = res.errors[0].code
+            err("the program raised an alarm before the lead could be planned", file=args.program, code=code)
             return 1
         inputs = lead_inputs_from_plan(res)
         side = args.side or inputs["side"]
         if getattr(args, "out", False):
             return _run_leadout(args, inputs, side, region, machine)
-        lead = optimal_lead(
-            inputs["start"],
-            inputs["contour"],
-            inputs["radius"],
-            side,
-            rho_min=args.rho_min,
-            safety=args.safety,
-            region=region,
-            machine=machine,
-            feed_mm_s=inputs["feed_mm_s"],
-            plane=inputs["plane"],
-        )
+        with stage("lead-in optimisation"):
+            lead = optimal_lead(
+                inputs["start"],
+                inputs["contour"],
+                inputs["radius"],
+                side,
+                rho_min=args.rho_min,
+                safety=args.safety,
+                region=region,
+                machine=machine,
+                feed_mm_s=inputs["feed_mm_s"],
+                plane=inputs["plane"],
+            )
     except SolverError as exc:
-        print(f"error: {args.program}: {exc}", file=sys.stderr)
+        err_exc(exc, args.program)
         return 1
-    except (TrcoptError, OSError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    except TrcoptError as exc:
+        err_exc(exc)
+        return 2
+    except (OSError, ValueError) as exc:  # the region file
+        err(str(exc), file=getattr(args, "region", None), code="IO" if isinstance(exc, OSError) else "USAGE")
         return 2
     try:
         baselines = compare_with_sar(lead, inputs["contour"], machine)
@@ -146,15 +163,16 @@ def run_leadin(args: argparse.Namespace) -> int:
     unit = "s" if lead.objective is LeadObjective.TIME else "mm (surrogate)"
     print(
         f"{args.program}: optimal lead {lead.kind}, length {lead.length:.3f} mm, "
-        f"{lead.objective} {lead.time_s:.4f} {unit}, min clearance {lead.best.min_clearance:.3f} mm"
+        f"{lead.objective.value} {lead.time_s:.4f} {unit}, min clearance {lead.best.min_clearance:.3f} mm"
         + (f", SAR shape {lead.sar.contour} DISR={lead.sar.disr:.3f}" if lead.sar else "")
     )
     for b in baselines:
         flag = f"  GOUGES by {b.gouge_mm:.3f} mm" if b.gouge_mm > 1e-6 else ""
         print(
-            f"  {b.code} DISR={b.disr:g}: length {b.length:.3f} mm, {lead.objective} {b.time_s:.4f} {unit}; "
+            f"  {b.code} DISR={b.disr:g}: length {b.length:.3f} mm, {lead.objective.value} {b.time_s:.4f} {unit}; "
             f"optimal/SAR time {lead.time_s / b.time_s:.3f}, length {lead.length / b.length:.3f}{flag}"
         )
+    rendered: list[tuple[str, str]] = []  # rendered first, then written atomically
     try:
         if args.json_out:
             out = lead.to_json()
@@ -163,15 +181,42 @@ def run_leadin(args: argparse.Namespace) -> int:
                 {"code": b.code, "disr": b.disr, "length_mm": b.length, "time_s": b.time_s, "gouge_mm": b.gouge_mm}
                 for b in baselines
             ]
-            Path(args.json_out).write_text(json.dumps(out, indent=1))
+            rendered.append((args.json_out, json.dumps(out, indent=1)))
         if args.gcode_out:
-            Path(args.gcode_out).write_text(leadin_gcode(lead, args.program))
+            rendered.append((args.gcode_out, leadin_gcode(lead, args.program)))
         if args.svg_out:
-            Path(args.svg_out).write_text(leadin_svg(lead, inputs["contour"], baselines))
-    except OSError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+            rendered.append((args.svg_out, _lead_svg(args.program, inputs, lead, baselines)))
+    except TrcoptError as exc:
+        err_exc(exc, args.program)
         return 2
-    return 0
+    return _write_all(rendered)
+
+
+_SAR_COLOURS = {"G147": "#1f77b4", "G247": "#9467bd", "G347": "#8c564b"}
+
+
+def _lead_svg(program: str, inputs: dict, lead: Any, baselines: list) -> str:
+    """The lead-in picture: the contour, the optimal lead (green, with direction), the SAR defaults
+    (named in the legend with their length and time), the start point P0 and the contour start P4,
+    axes in mm."""
+    from trcopt.errors import SourceSpan
+    from trcopt.io.svg import render_svg
+    from trcopt.path import Role, Segment
+
+    plane, feed = inputs["plane"], inputs["feed_mm_s"]
+    contour = [Segment(e, plane, Role.CONTOUR, SourceSpan(), feed) for e in inputs["contour"]]
+    overlays = [
+        (
+            f"{b.code} SAR default, DISR {b.disr:g} mm: {b.length:.3f} mm, {b.time_s:.4f}"
+            + (f", gouges by {b.gouge_mm:.3f} mm" if b.gouge_mm > 1e-6 else ""),
+            _SAR_COLOURS.get(b.code, "#888888"),
+            [Segment(e, plane, Role.APPROACH, SourceSpan(), feed) for e in b.elements if e.plane_length > 0],
+        )
+        for b in baselines
+    ]
+    markers = [(lead.p0[0], lead.p0[1], "P0 start point"), (lead.p4[0], lead.p4[1], "P4 contour start")]
+    title = f"optimal lead-in (green, {lead.kind}, {lead.length:.3f} mm, {lead.time_s:.4f}) of {program}"
+    return render_svg(contour, lead.segments, title=title, markers=markers, overlays=overlays)
 
 
 def _run_leadout(args: argparse.Namespace, inputs: dict, side: object, region: object, machine: object) -> int:
@@ -195,34 +240,56 @@ def _run_leadout(args: argparse.Namespace, inputs: dict, side: object, region: o
             plane=inputs["plane"],
         )
     except SolverError as exc:
-        print(f"error: {args.program}: {exc}", file=sys.stderr)
+        err_exc(exc, args.program)
         return 1
-    except (TrcoptError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    except TrcoptError as exc:
+        err_exc(exc)
+        return 2
+    except ValueError as exc:
+        err(str(exc), file=args.program)
         return 2
     print(
         f"{args.program}: optimal lead-out {lead.kind}, length {lead.length:.3f} mm, "
-        f"{lead.objective} {lead.time_s:.4f}, min clearance {lead.mirrored.best.min_clearance:.3f} mm"
+        f"{lead.objective.value} {lead.time_s:.4f}, min clearance {lead.mirrored.best.min_clearance:.3f} mm"
     )
+    rendered: list[tuple[str, str]] = []  # rendered first, then written atomically
     try:
         if args.json_out:
             out = lead.to_json()
             out["program"] = args.program
-            Path(args.json_out).write_text(json.dumps(out, indent=1))
+            rendered.append((args.json_out, json.dumps(out, indent=1)))
         if args.gcode_out:
             gcode = toolpath_to_gcode(
                 lead.segments,
                 flavor=controllers.get(inputs["dialect"]).gcode,
                 program_name=f"lead-out of {args.program}",
             )
-            Path(args.gcode_out).write_text(gcode)
+            rendered.append((args.gcode_out, gcode))
         if args.svg_out:
             from trcopt.errors import SourceSpan
             from trcopt.path import Role, Segment
 
-            contour = [Segment(e, inputs["plane"], Role.CONTOUR, SourceSpan(), None) for e in inputs["contour"]]
-            Path(args.svg_out).write_text(render_svg(contour, lead.segments, title=f"lead-out: {args.program}"))
-    except OSError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+            feed = inputs["feed_mm_s"]
+            contour = [Segment(e, inputs["plane"], Role.CONTOUR, SourceSpan(), feed) for e in inputs["contour"]]
+            end = inputs["end"]
+            title = f"optimal lead-out (green, {lead.length:.3f} mm) of {args.program}"
+            markers = [(end[0], end[1], "end point of the deselection block")]
+            rendered.append((args.svg_out, render_svg(contour, lead.segments, title=title, markers=markers)))
+    except TrcoptError as exc:
+        err_exc(exc, args.program)
+        return 2
+    return _write_all(rendered)
+
+
+def _write_all(rendered: list[tuple[str, str]]) -> int:
+    """Write the rendered outputs atomically (their folders created); 0, or 2 on a failure."""
+    from trcopt.io import write_text_atomic
+
+    try:
+        for path, text in rendered:
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+            write_text_atomic(path, text)
+    except OSError as exc:  # OutputError: the file is untouched, no temporary is left
+        err(str(exc).removeprefix("cannot write "), file=None, code="OUTPUT")
         return 2
     return 0

@@ -74,11 +74,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.set_defaults(handler=run_orient)
 
 
-def _err(file: str, message: str) -> None:
+def _err(file: str, message: str, code: str = "USAGE") -> None:
+    """``file: error CODE: message`` (the one error form of every command)."""
     prefix = f"{file}: "
     if message.startswith(prefix):
         message = message[len(prefix) :]
-    print(f"{file}: error {message}", file=sys.stderr)
+    print(f"{file}: error {code}: {message}", file=sys.stderr)
 
 
 def _load(args: argparse.Namespace) -> Carrier:
@@ -118,10 +119,10 @@ def run_orient(args: argparse.Namespace) -> int:
         carrier = _load(args)
     except AlarmError as exc:  # alarm 14153 from a program's data block
         dg = exc.diagnostic
-        _err(file, f"{dg.code}: {dg.message}")
+        _err(file, dg.message, dg.code)
         return 1
     except ConfigError as exc:
-        _err(file, exc.message)
+        _err(file, exc.message, exc.code)
         return 1 if exc.code == str(ALARM_KINEMATIC_TYPE) else 2
     word = parse_enum(OrientationWord, args.word)
     try:
@@ -222,8 +223,10 @@ def run_orient(args: argparse.Namespace) -> int:
         print(f"{file}: {dg.severity.value} {dg.code}: {dg.message}", file=stream)
     if args.json:
         try:
-            Path(args.json).write_text(json.dumps(out, indent=2) + "\n", encoding="utf-8")
-        except OSError as exc:
-            _err(args.json, f"cannot write JSON: {exc.strerror}")
+            from trcopt.io import write_text_atomic
+
+            write_text_atomic(args.json, json.dumps(out, indent=2) + "\n")
+        except OSError as exc:  # OutputError: nothing half-written
+            _err(args.json, str(exc), "OUTPUT")
             return 2
     return 0 if selection is not None else 1

@@ -13,8 +13,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from trcopt import controllers
-from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, err
-from trcopt.errors import Severity, TimingError, TrcoptError
+from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, check_outputs, err, err_exc
+from trcopt.errors import Severity, TrcoptError
+from trcopt.io.flavors import OUTPUT_FLAVORS
 from trcopt.modes import ApprRadius, ToolUnit, parse_enum
 from trcopt.optimize.corners import strategies as corner_strategies
 
@@ -35,11 +36,15 @@ def _add_reading_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--machine", metavar="FILE.toml", help="machine limits (default: embedded machine)")
     p.add_argument(
         "--tool-table", metavar="F",
-        help="tool table: LinuxCNC .tbl (rs274) or TOML (heidenhain); default: beside the program",
+        help="tool table: LinuxCNC .tbl (rs274) or TOML (heidenhain, siemens); default: beside the program",
     )
     p.add_argument(
-        "--tool-unit", default=ToolUnit.INCH.value, choices=[u.value for u in ToolUnit],
-        help="length unit of a LinuxCNC tool table (default inch, LinuxCNC's machine unit)",
+        "--zero-offsets", metavar="F",
+        help="SINUMERIK settable zero offsets G54… (TOML); default: <program>.offsets.toml beside the program",
+    )
+    p.add_argument(
+        "--tool-unit", default=ToolUnit.PROGRAM.value, choices=[u.value for u in ToolUnit],
+        help="length unit of a LinuxCNC tool table and offset parameters (default: the program's G20/G21 unit)",
     )
     p.add_argument(
         "--appr-radius", default=ApprRadius.CENTRE.value, choices=[a.value for a in ApprRadius],
@@ -57,12 +62,22 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="F", help="write the plan JSON (schema trcopt.plan/1)")
     p.add_argument("--gcode", metavar="F", help="write plain tool-centre G-code (G40 only)")
     p.add_argument(
-        "--gcode-flavor", default=None, choices=sorted({*controllers.names(), *controllers.dialects()}),
-        help="G-code flavour of a controller (default: the reading controller's)",
+        "--gcode-flavor", default=None,
+        choices=sorted({*controllers.names(), *controllers.dialects(), *OUTPUT_FLAVORS, "klartext"}),
+        help="G-code flavour of a controller, grbl (plain ISO) or klartext (Heidenhain conversational, for "
+        "Heidenhain programs); default: the reading controller's",
     )
     p.add_argument("--decimals", type=int, default=4, help="decimals in the written G-code (default 4)")
     p.add_argument("--svg", metavar="F", help="write an SVG picture of both paths")
+    p.add_argument(
+        "--html", metavar="F",
+        help="write an interactive preview: one self-contained HTML page (views, pan/zoom, speed, alarms)",
+    )
     p.add_argument("--csv", metavar="F", help="write the feed profile as CSV (needs timing)")
+    p.add_argument(
+        "--csv-step", metavar="S", type=_positive_seconds, default=None,
+        help="sampling step of --csv, s (default: 1 ms, coarser for long cycles: at most 200 000 rows)",
+    )
     p.add_argument("--png", metavar="F", help="write a speed-profile picture (PNG or SVG by suffix)")
     p.add_argument("--no-timing", action="store_true", help="skip the time parameterisation")
     p.add_argument(
@@ -95,6 +110,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def add_check_arguments(p: argparse.ArgumentParser) -> None:
     """The arguments of ``trcopt check``: those of ``plan`` that read and compensate."""
     _add_reading_arguments(p)
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress display")
     p.set_defaults(handler=run_check)
 
 
@@ -110,7 +126,8 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         timing=not getattr(args, "no_timing", True),
         strict=args.strict,
         tool_table=getattr(args, "tool_table", None),
-        tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.INCH), "tool unit"),
+        zero_offsets=getattr(args, "zero_offsets", None),
+        tool_unit=parse_enum(ToolUnit, getattr(args, "tool_unit", ToolUnit.PROGRAM), "tool unit"),
         appr_radius=parse_enum(ApprRadius, getattr(args, "appr_radius", ApprRadius.CENTRE), "APPR/DEP radius"),
         corners=getattr(args, "corners", corner_strategies.EXACT),
         tolerance_mm=getattr(args, "tolerance", 0.01),
@@ -133,6 +150,19 @@ def _positive_mm(text: str) -> float:
     return value
 
 
+def _positive_seconds(text: str) -> float:
+    """``--csv-step`` value: a positive finite time, s."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise argparse.ArgumentTypeError(f"must be a positive finite time in s, got {text!r}")
+    return value
+
+
 def _workers(text: str) -> int:
     """``--workers`` value: a non-negative integer; 0 means one process per CPU core."""
     import os
@@ -152,41 +182,62 @@ def _print_diagnostics(result: PlanResult) -> None:
         print(d.format(), file=stream)
 
 
-def run_check(args: argparse.Namespace) -> int:
+def _plan_with_progress(args: argparse.Namespace, opts: PlanOptions) -> PlanResult:
+    """Plan ``args.program``, with progress on a terminal's standard error unless ``--quiet``."""
     from trcopt.pipeline import plan_file
+    from trcopt.progress import reporting, stage, terminal_reporter
 
+    with reporting(terminal_reporter(quiet=getattr(args, "quiet", False))), stage(f"planning {args.program}"):
+        return plan_file(args.program, opts)
+
+
+def run_check(args: argparse.Namespace) -> int:
     opts = _options(args)
-    result = plan_file(args.program, opts)
+    result = _plan_with_progress(args, opts)
     _print_diagnostics(result)
     return EXIT_OK if result.ok else EXIT_ALARM
 
 
 def run_plan(args: argparse.Namespace) -> int:
-    from trcopt.io import dumps_plan, write_text_atomic
+    from trcopt.io import dumps_plan, write_bytes_atomic
     from trcopt.io.gcode_program import plan_to_gcode
-    from trcopt.pipeline import plan_file
+    from trcopt.io.klartext import plan_to_klartext
+    from trcopt.progress import reporting, stage, terminal_reporter
 
     if (args.csv or args.png) and args.no_timing:
         err("--csv/--png need the timing stage (drop --no-timing)")
         return EXIT_USAGE
+    # every output path is checked before the work starts
+    problem = check_outputs([args.json, args.gcode, args.svg, args.html, args.csv, args.png], inputs=[args.program])
+    if problem:
+        err(problem, code="OUTPUT")
+        return EXIT_USAGE
     opts = _options(args)
-    result = plan_file(args.program, opts)
+    result = _plan_with_progress(args, opts)
     _print_diagnostics(result)
     if not args.quiet:
         print(result.summary())
-    flavor = controllers.get(args.gcode_flavor or result.dialect).gcode
-    # render everything first, then write: a failure never leaves some files half-written
-    outputs: list[tuple[str, Callable[[], str]]] = []
+    if args.gcode_flavor == "klartext":
+        flavor, flavor_dialect = controllers.get("heidenhain").gcode, "heidenhain"
+    elif args.gcode_flavor in OUTPUT_FLAVORS:
+        flavor, flavor_dialect = OUTPUT_FLAVORS[args.gcode_flavor], args.gcode_flavor
+    else:
+        out_controller = controllers.get(args.gcode_flavor or result.dialect)
+        flavor, flavor_dialect = out_controller.gcode, out_controller.dialect
+    # render everything first, then write: a failure never leaves some files written and others not
+    outputs: list[tuple[str, Callable[[], str | tuple[Path, bytes]]]] = []
     if args.json:
         outputs.append((args.json, lambda: dumps_plan(result.to_json(samples=args.csv))))
     if args.gcode:
         outputs.append(
             (
                 args.gcode,
-                lambda: plan_to_gcode(
+                (lambda: plan_to_klartext(result, decimals=args.decimals, program_name=Path(args.program).name))
+                if args.gcode_flavor == "klartext"
+                else lambda: plan_to_gcode(
                     result,
                     flavor=flavor,
-                    dialect=controllers.get(args.gcode_flavor or result.dialect).dialect,
+                    dialect=flavor_dialect,
                     decimals=args.decimals,
                     program_name=Path(args.program).name,
                 ),
@@ -198,35 +249,60 @@ def run_plan(args: argparse.Namespace) -> int:
         outputs.append(
             (args.svg, lambda: render_svg(result.programmed, result.toolpath, result.diagnostics, title=args.program))
         )
-    try:
-        rendered = [(path, make()) for path, make in outputs]
-    except TrcoptError as exc:  # e.g. a non-finite number in the plan JSON (the message names the key)
-        err(f"{args.program}: {exc}")
-        return EXIT_USAGE
-    for path, text in rendered:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        write_text_atomic(path, text)
-    if args.csv or args.png:
-        if result.timing is None:
-            # the program stopped at an alarm before any motion, has no motion, or its timing
-            # failed (a warning says why): there is no feed profile to write
-            print(
-                f"{args.program}: note: --csv/--png not written: no feed profile was computed "
-                "(see the diagnostics above)"
+    if args.html:
+        from trcopt.io.html_preview import render_html
+
+        outputs.append(
+            (
+                args.html,
+                lambda: render_html(
+                    result.programmed, result.toolpath, result.diagnostics, result.timing,
+                    title=args.program, source=result.source, summary=result.summary(),
+                ),
             )
-            return EXIT_OK if result.ok else EXIT_ALARM
+        )
+    timing = result.timing
+    if (args.csv or args.png) and timing is None:
+        # the program stopped at an alarm before any motion, has no motion, or its timing
+        # failed (a warning says why): there is no feed profile to write
+        print(
+            f"{args.program}: note: --csv/--png not written: no feed profile was computed "
+            "(see the diagnostics above)"
+        )
+    elif timing is not None:
+        from trcopt.io.feed_csv import csv_step, render_feed_csv
+
+        if args.csv:
+            step = args.csv_step or csv_step(timing.duration)
+            outputs.append((args.csv, lambda: render_feed_csv(timing, step)))
+        if args.png:
+            from trcopt.io.plot import render_speed
+
+            outputs.append((args.png, lambda: render_speed(timing, args.png)))
+    try:
+        with reporting(terminal_reporter(quiet=args.quiet)), stage("rendering the outputs", len(outputs)) as done:
+            rendered: list[tuple[Path, bytes]] = []
+            for name, make in outputs:
+                rendered.append(_as_file(name, make()))
+                done(1)
+    except TrcoptError as exc:  # a non-finite number in the plan JSON (the key named), a cycle too long to sample
+        err_exc(exc, args.program)
+        return EXIT_USAGE
+    for path, data in rendered:
         try:
-            if args.csv:
-                from trcopt.io.feed_csv import write_feed_csv
-
-                write_feed_csv(result.timing, args.csv)
-            if args.png:
-                from trcopt.io.plot import plot_speed
-
-                plot_speed(result.timing, args.png)
-        except TimingError as exc:  # a cycle too long to sample (nothing was written)
-            err(f"{args.program}: --csv/--png: {exc}")
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            err(f"cannot create the folder of {path}: {exc.strerror or exc}", file=str(path), code="OUTPUT")
             return EXIT_USAGE
+        write_bytes_atomic(path, data)
     return EXIT_OK if result.ok else EXIT_ALARM
+
+
+def _as_file(path: str, content: str | tuple[Path, bytes]) -> tuple[Path, bytes]:
+    """A rendered output as (file, bytes): text is UTF-8; a picture names its own file (a suffix
+    may have been added)."""
+    if isinstance(content, str):
+        return Path(path), content.encode("utf-8")
+    return content
 
 

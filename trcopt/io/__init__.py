@@ -1,5 +1,5 @@
-"""Output writers: plan JSON, tool-centre G-code, SVG preview, DXF (optional ``trcopt[dxf]``), the
-feed profile CSV; pictures (paths, speed profile) in :mod:`trcopt.io.plot`.
+"""Output writers: plan JSON, tool-centre G-code, SVG preview, interactive HTML preview, DXF
+(optional ``trcopt[dxf]``), the feed profile CSV; pictures (paths, speed profile) in :mod:`trcopt.io.plot`.
 
 Importing this package stays cheap: ezdxf and matplotlib load inside the functions that need them.
 """
@@ -10,6 +10,7 @@ from trcopt.io.atomic import OutputError, write_bytes_atomic, write_text_atomic
 from trcopt.io.dxf import write_dxf
 from trcopt.io.feed_csv import render_feed_csv, write_feed_csv
 from trcopt.io.gcode import GcodeError, check_gcode_arcs, toolpath_to_gcode
+from trcopt.io.html_preview import render_html, write_html
 from trcopt.io.plan_json import PLAN_SCHEMA, PlanJsonError, dumps_plan, plan_json, write_plan_json
 from trcopt.io.svg import render_svg
 
@@ -22,11 +23,13 @@ __all__ = [
     "dumps_plan",
     "plan_json",
     "render_feed_csv",
+    "render_html",
     "render_svg",
     "toolpath_to_gcode",
     "write_bytes_atomic",
     "write_dxf",
     "write_feed_csv",
+    "write_html",
     "write_plan_json",
     "write_text_atomic",
 ]

@@ -15,13 +15,33 @@ from pathlib import Path
 from trcopt.io.atomic import write_text_atomic
 from trcopt.trajectory import Trajectory
 
-__all__ = ["render_feed_csv", "write_feed_csv", "FEED_CSV_COLUMNS", "JERK_CSV_COLUMNS"]
+__all__ = [
+    "render_feed_csv", "write_feed_csv", "csv_step", "FEED_CSV_COLUMNS", "JERK_CSV_COLUMNS", "CSV_MAX_ROWS",
+    "CSV_FINEST_STEP_S",
+]
+
+CSV_MAX_ROWS = 200_000  # the default step keeps a feed-profile CSV within this many rows (~40 MB)
+CSV_FINEST_STEP_S = 1e-3  # ... and is never finer than this
 
 FEED_CSV_COLUMNS = (
     "t_s", "s_mm", "x_mm", "y_mm", "z_mm", "path_speed_mm_s",
     "vx_mm_s", "vy_mm_s", "vz_mm_s", "ax_mm_s2", "ay_mm_s2", "az_mm_s2", "segment", "block",
 )
 JERK_CSV_COLUMNS = ("jx_mm_s3", "jy_mm_s3", "jz_mm_s3")  # before "segment", for a jerk-limited profile
+
+
+def csv_step(duration_s: float, max_rows: int = CSV_MAX_ROWS) -> float:
+    """The default sampling step of a feed-profile CSV: the finest of 1, 2, 5 × 10ⁿ s, not below
+    :data:`CSV_FINEST_STEP_S`, that keeps a cycle of ``duration_s`` within ``max_rows`` rows."""
+    import math
+
+    need = max(CSV_FINEST_STEP_S, duration_s / max(1, max_rows - 1)) if math.isfinite(duration_s) else 1.0
+    exponent = math.floor(math.log10(need))
+    for mantissa in (1, 2, 5, 10):
+        step = round(mantissa * 10.0**exponent, 12)
+        if step >= need * (1 - 1e-12):
+            return step
+    return 10.0 ** (exponent + 1)  # pragma: no cover (10 × 10ⁿ always qualifies)
 
 
 def render_feed_csv(trajectory: Trajectory, dt: float = 1e-3) -> str:

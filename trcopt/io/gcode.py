@@ -89,6 +89,13 @@ class GcodeFlavor:
     preamble: tuple[str, ...]
     end: str
     continuous_path: tuple[str, ...] = ()
+    #: the non-motion words (regular expression, whole word) this flavour reads when the program is
+    #: in another dialect; the others become comments. None: tool call and change, M functions,
+    #: spindle speed and the work offsets G54–G59
+    portable_words: str | None = None
+    #: the words written for a tool change (``M6``) on a controller without a tool changer (spindle
+    #: stop and program stop, so that the operator changes the tool by hand), None: none
+    manual_tool_change: str | None = None
 
     def comment(self, text: str) -> str:
         """``text`` as one comment of this flavour."""

@@ -35,7 +35,7 @@ from trcopt.codes import Code, family
 from trcopt.errors import Diagnostic, Severity
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
-from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, open_writer, write_segment
+from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
 from trcopt.path import Segment
 
 __all__ = ["plan_to_gcode", "program_units", "kept_words"]
@@ -55,7 +55,9 @@ _UNIT_WORDS = {
     "rs274": re.compile(r"(?<![A-Z0-9_.])G\s*0*(20|21)(?![\d.])", re.I),
 }
 _INCH_PREAMBLE = {"G71": "G70", "G21": "G20"}
-_FLAVOR_DIALECT = {"linuxcnc": "rs274"}
+_FLAVOR_DIALECT = {"linuxcnc": "rs274"}  # an output-only flavour (grbl) is no program's dialect
+#: how a flavour writes a block in machine coordinates (a segment whose span carries ``machine``)
+_MACHINE_WORDS = {"siemens": ("SUPA",), "linuxcnc": ("G53",), "grbl": ("G53",)}
 
 
 def program_units(source: str, dialect: str, first_motion_line: int | None) -> tuple[bool, bool]:
@@ -138,11 +140,17 @@ def _translate(words: list[str], same: bool, flavor: GcodeFlavor, source_line: s
         return words, []
     kept: list[str] = []
     comments: list[str] = []
+    portable = _PORTABLE if flavor.portable_words is None else re.compile(flavor.portable_words, re.I)
+    tools = [w for w in words if re.match(r"^T\d+$", w, re.I)]
     for w in words:
         msg = _MSG.match(w)
-        if msg and flavor.paren_comments:
+        if flavor.manual_tool_change and re.match(r"^M0*6$", w, re.I):
+            # no tool changer: the program stops for the operator to change the tool by hand
+            kept.append(flavor.manual_tool_change)
+            comments.append(" ".join(["tool change", *tools, f"{w}: change the tool by hand, then resume"]))
+        elif msg and flavor.paren_comments:
             comments.append(f"MSG, {msg.group(1)}")
-        elif _PORTABLE.match(w) or w.upper().startswith("G4 "):
+        elif portable.match(w) or w.upper().startswith("G4 "):
             kept.append(w)
         else:
             comments.append(f"not written in {flavor.name} G-code: {w}")
@@ -177,6 +185,88 @@ def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str]) -> l
         if d.code == Code.ALARM_10763 and d.span.line:
             group(d.span.line, d.span.block).comments.append(f"omitted block, {d.format()}")
     return sorted(by_line.values(), key=lambda g: g.line)
+
+
+def _write_machine(w: Any, seg: Segment, flavor: GcodeFlavor, k: float) -> None:
+    """A block in machine coordinates (SINUMERIK G53/G153/SUPA): its programmed machine positions,
+    with the flavour's word for it (``SUPA``, LinuxCNC ``G53``); the modal position is the path's."""
+    assert seg.span.machine is not None
+    words = ["G0" if seg.is_rapid else "G1", *_MACHINE_WORDS[flavor.name]]
+    words += [f"{name}{w.num(v * k)}" for name, v in zip("XYZ", seg.span.machine, strict=True) if v is not None]
+    if not seg.is_rapid:
+        words += w.feed_word(seg.feed_mm_s)
+    w.emit(words, " ".join(x for x in (seg.span.block, f"L{seg.span.line}", "machine coordinates") if x))
+    w.started = True
+    for i in range(3):
+        w.pos[i] = _round(seg.end_xyz[i], w.decimals)
+
+
+def _in_run_order(result: Any) -> bool:
+    """Whether the program runs its blocks out of line order (jumps, loops, repetitions) or in other
+    files (subprograms): its words are then written move by move as they run."""
+    moves = result.nc.moves
+    if result.nc.extras.get("words"):
+        return False
+    return any(m.span.file != result.nc.file for m in moves) or any(
+        b.span.line < a.span.line for a, b in zip(moves, moves[1:], strict=False)
+    )
+
+
+def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str]) -> list[tuple[Any, _Group]]:
+    """The words of every move in the order the moves run (one group per move)."""
+    out = []
+    for m in result.nc.moves:
+        g = _Group(m.span.line, m.span.block)
+        words = kept_words(m.actions)
+        dropped = [a for a in m.actions if _PATH_CONTROL.match(a.strip())]
+        if words or dropped:
+            here = m.span.file == result.nc.file and 0 < m.span.line <= len(lines)
+            kept, comments = _translate(words, same, flavor, lines[m.span.line - 1] if here else "")
+            g.before += [w for w in kept if w.upper() not in _AT_BLOCK_END]
+            g.after += [w for w in kept if w.upper() in _AT_BLOCK_END]
+            g.comments += comments
+            if dropped:
+                g.comments.append("path control " + " ".join(dropped) + ": its rounding is in the tool-centre path")
+        if m.span.file != result.nc.file:
+            g.block = " ".join(x for x in (m.span.file, g.block) if x)
+        out.append((m.span, g))
+    for d in result.diagnostics:
+        if d.code == Code.ALARM_10763 and d.span.line:
+            match = next((g for span, g in out if span.line == d.span.line and span.file == d.span.file), None)
+            if match is not None:
+                match.comments.append(f"omitted block, {d.format()}")
+    return out
+
+
+def _write_in_run_order(
+    w: Any, result: Any, segs: list[Segment], groups: list[tuple[Any, _Group]], flush: Any, lines: list[str], inch: bool
+) -> None:
+    """Write the segments with the words of the moves they come from, in the order the moves run."""
+    done = 0  # the moves before this index are written
+    current = -1  # the move whose segments are being written
+    for seg in segs:
+        if current < 0 or groups[current][0] != seg.span:
+            k = next((i for i in range(done, min(len(groups), done + 10_000)) if groups[i][0] == seg.span), None)
+            if k is not None:
+                if current >= 0:
+                    flush(groups[current][1], False, True)
+                for i in range(done, k):
+                    flush(groups[i][1], True, True)
+                flush(groups[k][1], True, False)
+                current, done = k, k + 1
+                span = seg.span
+                here = span.file == result.nc.file and 0 < span.line <= len(lines)
+                text = _COMMENTS.sub(" ", lines[span.line - 1]) if here else ""
+                w.programmed = frozenset("XYZ".index(m.group(1).upper()) for m in _AXIS.finditer(text))
+        if seg.span.machine is not None and isinstance(seg.geometry, Line) and w.flavor.name in _MACHINE_WORDS:
+            _write_machine(w, seg, w.flavor, 1.0 / INCH_MM if inch else 1.0)
+            continue
+        write_segment(w, seg)
+    w.programmed = frozenset()
+    if current >= 0:
+        flush(groups[current][1], False, True)
+    for i in range(done, len(groups)):
+        flush(groups[i][1], True, True)
 
 
 def _stop(result: Any) -> Diagnostic | None:
@@ -244,6 +334,10 @@ def plan_to_gcode(
         if words:
             w.emit(words, g.source)
 
+    if _in_run_order(result):
+        _write_in_run_order(w, result, segs, _move_groups(result, flavor, same, lines), flush, lines, inch)
+        pending = []
+        segs = []
     for seg in segs:
         if seg.span.line > line:
             line = seg.span.line
@@ -257,6 +351,9 @@ def plan_to_gcode(
                 flush(current, True, False)
             text = _COMMENTS.sub(" ", lines[line - 1]) if 0 < line <= len(lines) else ""
             w.programmed = frozenset("XYZ".index(m.group(1).upper()) for m in _AXIS.finditer(text))
+        if seg.span.machine is not None and isinstance(seg.geometry, Line) and flavor.name in _MACHINE_WORDS:
+            _write_machine(w, seg, flavor, 1.0 / INCH_MM if inch else 1.0)
+            continue
         write_segment(w, seg)
     w.programmed = frozenset()
     if current is not None:

@@ -16,7 +16,7 @@ from trcopt.io.atomic import write_bytes_atomic
 from trcopt.path import Role, Segment
 from trcopt.trajectory import Trajectory
 
-__all__ = ["plot_paths", "plot_speed"]
+__all__ = ["plot_paths", "plot_speed", "render_speed", "picture_file"]
 
 SPEED_PLOT_SAMPLES = 4000  # samples over the whole profile (at most one every 0.1 ms)
 
@@ -138,16 +138,33 @@ def plot_speed(trajectory: Trajectory, path: str | os.PathLike[str] | None = Non
         fig.colorbar(lc, ax=ax1, label="speed [mm/s]")
         ax1.set_title("speed over the path")
     if path is not None:
-        fig.tight_layout()
-        dest, image_format = _picture_file(path, fig.canvas.get_default_filetype())
-        picture = BytesIO()
-        fig.savefig(picture, format=image_format)
-        plt.close(fig)
-        write_bytes_atomic(dest, picture.getvalue())
+        dest, picture = _render(fig, path)
+        write_bytes_atomic(dest, picture)
     return fig
 
 
-def _picture_file(path: str | os.PathLike[str], default_format: str) -> tuple[Path, str]:
+def render_speed(trajectory: Trajectory, path: str | os.PathLike[str]) -> tuple[Path, bytes]:
+    """The picture :func:`plot_speed` writes to ``path``, rendered but not written: the file it
+    goes to (``path``, with the default format's suffix when it has none) and its bytes."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    return _render(plot_speed(trajectory), path)
+
+
+def _render(fig: Any, path: str | os.PathLike[str]) -> tuple[Path, bytes]:
+    """Render ``fig`` in the format ``path`` names and close it."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    dest, image_format = picture_file(path, fig.canvas.get_default_filetype())
+    picture = BytesIO()
+    fig.savefig(picture, format=image_format)
+    plt.close(fig)
+    return dest, picture.getvalue()
+
+
+def picture_file(path: str | os.PathLike[str], default_format: str) -> tuple[Path, str]:
     """The file and format matplotlib's ``savefig(path)`` would use: the suffix names the format;
     without one the default format is used and its suffix appended."""
     name = os.fspath(path)
