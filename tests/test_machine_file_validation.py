@@ -49,7 +49,7 @@ def test_a_machine_file_that_is_not_text_is_an_error_naming_it(tmp_path: Path, c
     p.write_bytes(BINARY)
     assert main(["plan", str(POCKET), "--machine", str(p), "--no-timing"]) == 2
     err = capsys.readouterr().err
-    assert f"trcopt: error: {p}: not a text file" in err and "Traceback" not in err
+    assert f"trcopt: error CONFIG: {p}: not a text file" in err and "Traceback" not in err
 
 
 @pytest.mark.parametrize("kind", ["heidenhain tool table", "carrier"])

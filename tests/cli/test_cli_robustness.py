@@ -25,9 +25,12 @@ def test_a_binary_file_is_not_a_text_file(tmp_path: Path, capsys, data: bytes) -
     out = tmp_path / "plan.json"
     assert main(["plan", str(prog), "--json", str(out)]) == 2
     err = capsys.readouterr().err
-    assert f"{prog}: not a text file" in err
+    assert f"{prog}" in err and "error NC-NOT-TEXT" in err and "not a text file" in err
     assert "Traceback" not in err
     assert not out.exists()
+    if b"\x00" in data and data.startswith(b"N10"):
+        # a NUL byte is placed at its line, column and block
+        assert f"{prog}:1:10: error NC-NOT-TEXT (N10): not a text file (NUL byte at offset 9)" in err
 
 
 def test_utf16_and_latin1_programs_are_still_read(tmp_path: Path) -> None:
@@ -86,7 +89,7 @@ def test_an_output_that_cannot_be_rendered_names_the_program(tmp_path: Path, cap
     out, svg = tmp_path / "plan.json", tmp_path / "plan.svg"
     assert main(["plan", str(GEAR), "--no-timing", "--json", str(out), "--svg", str(svg)]) == 2
     err = capsys.readouterr().err
-    assert f"trcopt: error: {GEAR}: non-finite number in plan JSON at toolpath[3]" in err
+    assert f"{GEAR}: error PLAN-JSON: non-finite number in plan JSON at toolpath[3]" in err
     assert not out.exists() and not svg.exists()
 
 

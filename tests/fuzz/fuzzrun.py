@@ -50,7 +50,7 @@ __all__ = ["CLASSES", "Outcome", "run_program", "run_batch", "main"]
 CLASSES = ("traceback", "internal", "hang", "exit", "unlocated", "nonfinite", "partial")
 _ERROR_LINE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<col>\d+): error (?P<code>\S+)(?: \((?P<block>[^)]*)\))?: ")
 _NONFINITE = re.compile(r"(?<![A-Za-z_])(?:nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
-_QUOTED = re.compile(r"\([^)\n]*\)|;[^\n]*|<text[^>]*>[^<]*</text>|<title>[^<]*</title>|<!--.*?-->", re.S)
+_QUOTED = re.compile(r"\([^)\n]*\)|;[^\n]*|<text[^>]*>.*?</text>|<title>[^<]*</title>|<!--.*?-->", re.S)
 _FLOAT = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _BLOCK_NUMBER = {".mpf": re.compile(r"^\s*N[0-9]+(?=[ \t]|$)"), ".ngc": re.compile(r"^\s*N[0-9]+(?=[ \t]|$)", re.I),
                  ".h": re.compile(r"^\s*[0-9]+[ \t]")}

@@ -44,6 +44,7 @@ from trcopt.codes import Code
 from trcopt.config import DEFAULT_MACHINE, Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
+from trcopt.progress import iterate
 from trcopt.solution import Solution
 from trcopt.timing.checks import axis_triple, max_jerk, path_deviation, path_ratios, worst
 from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_label
@@ -347,11 +348,12 @@ def jerk_limited(
         from concurrent.futures import ProcessPoolExecutor
 
         with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=(ctx,)) as pool:
-            results = list(pool.map(_solve_section, sections, chunksize=max(1, len(sections) // (4 * workers))))
+            chunks = max(1, len(sections) // (4 * workers))
+            results = list(iterate(pool.map(_solve_section, sections, chunksize=chunks), "sections", len(sections)))
     else:
         _init_worker(ctx)
         try:
-            results = [_solve_section(sec) for sec in sections]
+            results = [_solve_section(sec) for sec in iterate(sections, "sections")]
         finally:
             _init_worker(None)
     solutions, knots = [], []

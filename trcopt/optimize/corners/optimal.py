@@ -21,7 +21,7 @@ from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
-from trcopt.optimize.corners.chain import ChainSite, find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, knot_site, solve_chain
 from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
@@ -30,6 +30,7 @@ from trcopt.optimize.corners.selection import fastest
 from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite, curvature_jump_joints, find_corner_sites
 from trcopt.optimize.corners.strategies import CornerJob
 from trcopt.path import Segment
+from trcopt.progress import iterate
 from trcopt.verify.contour import part_contour
 
 __all__ = ["PARALLEL_MIN_CORNERS", "optimal_transitions"]
@@ -104,7 +105,8 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
         peak = {c.index: c.max_curvature for c in circles.corners if c.blended}
         flatter = lambda chain: _spline_may_be_flatter(segs, chain, peak)  # noqa: E731
     plan.splines, plan.kept = _solve_chains(
-        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains, keep=flatter
+        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains, keep=flatter,
+        workers=job.workers,
     )
     if circles is not None and not plan.splines and all(_two_lines(site) for _, site in sites):
         return _with_reason(circles)
@@ -138,6 +140,7 @@ def _solve_chains(
     runs: bool = True,
     knots: bool = False,
     keep: Callable[[ChainSite], bool] | None = None,
+    workers: int = 1,
 ) -> tuple[list[Spline], list[CornerRecord]]:
     """G2 splines across the runs of small-deflection corners (``runs``) and across the curvature
     jumps (``knots``): the feasible ones, and records of the curvature jumps that keep the exact
@@ -161,13 +164,28 @@ def _solve_chains(
         # as a whole (its two joints); a feasible spline takes the place of the circle's site
         runs_k = [[k] for k in jumps] + [[k, k + 1] for k, site in sites if site.min_cut > 0.0]
         found += [knot_site(segs, run, owned, contour, eps) for run in runs_k]
-    for chain in found:
-        sol = solve_chain(chain, eps)
+    for chain, sol in zip(found, _chain_solutions(found, eps, workers), strict=True):
         if sol.ok:
             out.append((chain, sol, eps))
         elif chain.max_turn <= TANGENT_TOL_RAD and len(chain.joints) == 1:  # (a circle keeps its site)
             kept.append(kept_jump(segs, chain, f"spline infeasible ({sol.message})"))
     return out, kept
+
+
+def _solve_chain_task(task: tuple[ChainSite, float]) -> ChainSolution:
+    return solve_chain(*task)
+
+
+def _chain_solutions(found: list[ChainSite], eps: float, workers: int) -> list[ChainSolution]:
+    """The spline of every run in ``found`` at ``eps``, in order: in ``workers`` processes when
+    there are several runs (each is an independent sequence of QPs)."""
+    tasks = [(chain, eps) for chain in found]
+    if workers > 1 and len(tasks) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
+            return list(iterate(pool.map(_solve_chain_task, tasks), "corner splines", len(tasks)))
+    return list(iterate(map(_solve_chain_task, tasks), "corner splines", len(tasks)))
 
 
 def _with_reason(result: CornerResult) -> CornerResult:
@@ -209,6 +227,7 @@ def _solve_sites(tasks: list[CornerTask], solved: dict[tuple[int, float], Corner
         from concurrent.futures import ProcessPoolExecutor
 
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            solved.update(pool.map(_solve_one, tasks, chunksize=max(1, len(tasks) // (4 * workers))))
+            chunks = max(1, len(tasks) // (4 * workers))
+            solved.update(iterate(pool.map(_solve_one, tasks, chunksize=chunks), "corner problems", len(tasks)))
     else:
-        solved.update(map(_solve_one, tasks))
+        solved.update(iterate(map(_solve_one, tasks), "corner problems", len(tasks)))
