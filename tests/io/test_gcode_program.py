@@ -295,3 +295,11 @@ def test_the_command_line_writes_grbl(tmp_path: Path) -> None:
     text = out.read_text()
     assert "G0 G53 Z0.0" in text  # the SUPA retract stays in machine coordinates
     assert "M5 M0" in text and text.rstrip().endswith("M2")
+
+
+def test_a_linuxcnc_message_is_written_as_a_message_comment() -> None:
+    first = _planned("G21 G90\nG0 X0 Y0 Z5\n(MSG, profile with T1)\nG1 X10 F100\nM2\n", "m.ngc")
+    text = plan_to_gcode(first, decimals=4)
+    assert "(MSG, profile with T1)" in text.splitlines() and 'MSG("' not in text
+    again = _planned(text, "again.ngc", corners="exact")
+    assert again.ok, [d.format() for d in again.errors]

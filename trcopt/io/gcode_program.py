@@ -136,8 +136,12 @@ def _translate(words: list[str], same: bool, flavor: GcodeFlavor, source_line: s
         words = [w for w in words if not (w[:1].upper() in "FP" and w[1:2] in "0123456789.+")]
         letter = "P" if flavor.paren_comments else "F"
         words = [f"G4 {letter}{time}" if _DWELL.match(w) and time is not None else w for w in words]
-    if same:
+    if same and not (flavor.paren_comments and any(_MSG.match(w) for w in words)):
         return words, []
+    if same:
+        # a LinuxCNC message is a comment, (MSG, …), not a word
+        msgs = [f"MSG,{m.group(1)}" for m in map(_MSG.match, words) if m]
+        return [w for w in words if not _MSG.match(w)], msgs
     kept: list[str] = []
     comments: list[str] = []
     portable = _PORTABLE if flavor.portable_words is None else re.compile(flavor.portable_words, re.I)
