@@ -288,7 +288,8 @@ MEANING: dict[Code, str] = {
     Code.HH_PGM_CALL: "warning: CALL PGM while RL/RR is active: compensation is cancelled at the call",
     Code.HH_TOOL_TABLE: "warning: the tool table beside the program could not be read and is ignored",
     Code.HH_Q_UNDEFINED: "a Q parameter is read before a value was assigned to it",
-    Code.HH_Q_MATH: "Q-parameter arithmetic impossible: division by zero, root of a negative number, result out of range",
+    Code.HH_Q_MATH: "Q-parameter arithmetic impossible: division by zero, root of a negative number, "
+    "result out of range",
     Code.HH_LABEL: "jump or call to a label that is not in the program, a label defined twice, LBL 0 outside a call",
     Code.HH_LOOP_LIMIT: "the program does not end within the executed-block limit, or calls nest too deep",
     Code.HH_PGM_MISSING: "CALL PGM: the called program file is not beside the calling program",
@@ -317,9 +318,10 @@ MEANING: dict[Code, str] = {
     "a duplicate label, too many call levels",
     Code.LCNC_COMP_ACTIVE: "a block LinuxCNC refuses while cutter radius compensation is on: a change of work "
     "offset, G92, tool, tool length offset, plane or units, G53, G28/G30, a canned cycle",
-    Code.LCNC_CYCLE: "a canned cycle LinuxCNC rejects: R or the depth missing, R below the bottom, a missing P/Q/I/J/K, "
-    "zero repeats, the spindle not turning",
-    Code.LCNC_OFFSET: "G10/G92/G53 LinuxCNC rejects: a P or L out of range, axes missing, G53 incremental or without G0/G1",
+    Code.LCNC_CYCLE: "a canned cycle LinuxCNC rejects: R or the depth missing, R below the bottom, a missing "
+    "P/Q/I/J/K, zero repeats, the spindle not turning",
+    Code.LCNC_OFFSET: "G10/G92/G53 LinuxCNC rejects: a P or L out of range, axes missing, G53 incremental or "
+    "without G0/G1",
     Code.LCNC_WORDS: "a word combination LinuxCNC rejects: two G or M codes of one modal group, axis words without a "
     "G code using them, a D, H, L, P, Q or R word nothing uses, a feed move at zero feed",
     Code.LCNC_MESSAGE: "note: a (MSG,…), (DEBUG,…) or (PRINT,…) comment, with its parameters substituted",

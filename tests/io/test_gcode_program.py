@@ -303,3 +303,26 @@ def test_a_linuxcnc_message_is_written_as_a_message_comment() -> None:
     assert "(MSG, profile with T1)" in text.splitlines() and 'MSG("' not in text
     again = _planned(text, "again.ngc", corners="exact")
     assert again.ok, [d.format() for d in again.errors]
+
+
+def test_the_linuxcnc_cam_post_program_replans_with_its_machine_moves(tmp_path: Path) -> None:
+    """The Fusion-style LinuxCNC program (work offsets, G28 retracts, a drilling cycle, G43): its
+    output starts with no move the program did not command, keeps the G28 retracts as G53 moves and
+    re-plans (on the same machine settings) to the same path and words."""
+    folder = PROBLEMS / "rs274"
+    for name in ("rs274ngc.toml", "tools.tbl"):
+        (tmp_path / name).write_text((folder / name).read_text())
+    src = folder / "cam_fusion_drill_profile.ngc"
+    first = plan_file(src, PlanOptions(timing=False))
+    assert first.ok
+    text = plan_to_gcode(first, decimals=4)
+    codes = [c for c in (_code(ln) for ln in text.splitlines()) if c]
+    first_move = next(c for c in codes if re.match(r"G[0123]\b", c))
+    assert first_move == "G0 X10.0 Y10.0"  # the program's first motion, from where it starts
+    assert "G0 G53 Z0.0" in codes
+    out = tmp_path / "out.ngc"
+    out.write_text(text)
+    again = plan_file(out, PlanOptions(timing=False, corners="exact"))
+    assert again.ok, [d.format() for d in again.errors]
+    assert _hausdorff(first.toolpath, again.toolpath) <= 1e-4
+    assert _words(again) == _words(first)

@@ -326,6 +326,10 @@ def plan_to_gcode(
         preamble=preamble,
         header=[f"units: {'inch' if inch else 'mm'}, the program's words in order, each block names its source"],
     )
+    if segs:
+        # the path starts where the reader started the program (the machine origin of a LinuxCNC
+        # program with work offsets, say): no move is written to get there
+        w.assumed = segs[0].start_xyz
     pending = _groups(result, flavor, same, lines)
     current: _Group | None = None  # the group of the source line whose motions are being written
     line = 0

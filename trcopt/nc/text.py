@@ -75,7 +75,9 @@ def decode_program(raw: bytes, file: str) -> str:
         try:
             return raw.decode("utf-16")
         except UnicodeDecodeError:
-            raise TrcoptError("not a text file (invalid UTF-16)", code=Code.NC_NOT_TEXT, span=SourceSpan(file)) from None
+            raise TrcoptError(
+                "not a text file (invalid UTF-16)", code=Code.NC_NOT_TEXT, span=SourceSpan(file)
+            ) from None
     nul = raw.find(b"\x00")
     if nul >= 0:
         raise TrcoptError(

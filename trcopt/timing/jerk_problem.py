@@ -207,8 +207,8 @@ class JerkProblem:
                     acc = (ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2) / self.amax[k]
                     opti.subject_to(opti.bounded(-lim_a, acc, lim_a))
                 if not self._axis_row_implied("j", k, tight):
-                    jerk = (ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj) / self.jmax[k]
-                    opti.subject_to(opti.bounded(-lim_a, jerk, lim_a))
+                    jerk = ca.DM(d3[:, k]) * vv**3 + 3 * ca.DM(d2[:, k]) * vv * aa + ca.DM(d1[:, k]) * jj
+                    opti.subject_to(opti.bounded(-lim_a, jerk / self.jmax[k], lim_a))
         if self.path_amax is not None or self.path_jmax is not None:
             for (d1, d2, d3), vv, aa in ((self.grid.dl, v0, a0), (self.grid.dr, v1, a1)):
                 acc_v = [ca.DM(d1[:, k]) * aa + ca.DM(d2[:, k]) * vv**2 for k in self.grid.axes_used]

@@ -212,7 +212,10 @@ def _modal_zero(g: float, w: Words, st: NgcState, span: SourceSpan, emit: Emit) 
         if not any(given):
             given = [True, True, True]
         end = tuple(home[i] if given[i] else waypoint[i] for i in range(3))
-        _straight(st, (end[0], end[1], end[2]), True, span, emit, ())
+        # the move to the reference point is a move in machine coordinates (written as G53)
+        at = off.machine((end[0], end[1], end[2]))
+        home_span = dataclasses.replace(span, machine=tuple(at[i] if given[i] else None for i in range(3)))
+        _straight(st, (end[0], end[1], end[2]), True, home_span, emit, ())
     elif g in (28.1, 30.1):
         _comp_check(st, "Cannot set reference point with cutter compensation in effect", w.gcol(0))
         off.save_reference(int(g), st.pos)
@@ -357,6 +360,7 @@ def _motion(w: Words, st: NgcState, span: SourceSpan, emit: Emit, actions: list[
         if st.radius_mm != 0.0:  # LinuxCNC runs a move under a zero radius uncompensated
             _comp_check(st, "Cannot use g53 with cutter radius comp", w.gcol(0))
         end = st.offsets.machine_end(axes, st.pos)
+        span = dataclasses.replace(span, machine=tuple(axes.get(i) for i in range(3)))
     else:
         end = _end(w, st, axes)
     iu, iv, _ = st.plane.axes
