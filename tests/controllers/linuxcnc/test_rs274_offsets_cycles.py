@@ -137,7 +137,7 @@ def test_canned_cycles_expand_as_rs274() -> None:
         ("G21\nG0 X1 D1\nM2\n", "LCNC-WORDS",
          "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 G73, G83 or G96 to use it", 2, 7),
         ("G21\nX1\nM2\n", "LCNC-WORDS", "Cannot use axis values without a g code that uses them", 2, 1),
-        ("G21\nM98 P100\nM2\n", "NC-UNSUPPORTED", "M98 is not supported by the rs274 reader", 2, 1),
+        ("G21\nM98 P100 L0\nM2\n", "NC-UNSUPPORTED", "M98 L0 (no run) is not modelled", 2, 1),
         ("G21\nG33 Z-1 K1\nM2\n", "NC-UNSUPPORTED", "G33 is not supported by the rs274 reader", 2, 1),
         ("G21\n(ABORT, stop at #<_x>)\nM2\n", "LCNC-ABORT", " stop at 0.000000", 2, 1),
     ],

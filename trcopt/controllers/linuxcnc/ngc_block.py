@@ -71,12 +71,8 @@ def read_oword(line: NgcLine, start: int, params: Parameters) -> OLine:
     for command in O_COMMANDS:
         if text.startswith(command, j):
             return OLine(label, command, j + len(command), start)
-    if j == len(text):
-        raise NgcError(
-            "Fanuc-style O-word programs (a bare O number, M98/M99) are not supported",
-            start,
-            Code.NC_UNSUPPORTED,
-        )
+    if j == len(text) and not text.startswith("<", start + 1):
+        return OLine(label, "", j, start)  # a Fanuc-style program number (called by M98)
     raise NgcError("Unknown control command in o word", j, Code.LCNC_OWORD)
 
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Generator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from trcopt.codes import Code
@@ -36,13 +36,13 @@ from trcopt.controllers.linuxcnc.ngc_expr import (
     ValueReader,
     normalise,
 )
+from trcopt.controllers.linuxcnc.ngc_fanuc import CALL_LEVELS, Frame, m98_block, program_number
 from trcopt.nc.text import decode_program, program_lines
 
 __all__ = ["LOOP_LIMIT", "TOTAL_JUMP_LIMIT", "CALL_LEVELS", "FlowError", "NgcFlow", "Step"]
 
 LOOP_LIMIT = 100_000  # jumps back to one loop start before the loop is taken as endless
 TOTAL_JUMP_LIMIT = 100_000  # jumps back in the whole program (a loop re-entered without end)
-CALL_LEVELS = 10  # LinuxCNC's INTERP_SUB_ROUTINE_LEVELS
 _BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
 _NO_END = "File ended with no percent sign (%) or program end (M2)"
 
@@ -79,14 +79,6 @@ class _Offset:
     jumps: int = 0
 
 
-@dataclass(slots=True)
-class _Frame:
-    sub: str | None = None
-    saved: list[float] = field(default_factory=list)  # the caller's #1…#30, kept by the caller's frame
-    file: str = ""
-    index: int = 0  # where the caller continues
-
-
 class NgcFlow:
     """Runs the O-word control flow of one program (see the module docstring)."""
 
@@ -102,7 +94,7 @@ class NgcFlow:
         self.defining_sub = False
         self.sub_name: str | None = None
         self.offsets: dict[str, _Offset] = {}
-        self.frames: list[_Frame] = [_Frame()]
+        self.frames: list[Frame] = [Frame()]
         self.value = 0.0  # a subroutine's return value (#<_value>)
         self.jumps = 0  # jumps back so far (TOTAL_JUMP_LIMIT)
         self._lines: dict[tuple[str, int], tuple[NgcLine, int | None, int]] = {}  # normalised once
@@ -143,6 +135,8 @@ class NgcFlow:
                 if self.skipping is not None:
                     continue  # LinuxCNC does not read a skipped line
                 block = read_words(line, start, self.params)
+                if m98_block(self, block):
+                    continue
                 yield Step(block, self.file, line_no, number)
                 for key, value in block.settings:
                     if isinstance(key, int):
@@ -174,6 +168,9 @@ class NgcFlow:
     def _oline(self, line: NgcLine, start: int, o: OLine) -> None:
         cmd = o.command
         level = len(self.frames) - 1
+        if cmd == "":
+            program_number(self, o)
+            return
         if cmd in ("sub", "endsub", "call", "return"):
             name = o.label
         else:
@@ -387,7 +384,7 @@ class NgcFlow:
         caller.file, caller.index = self.file, self.index
         values = args + [0.0] * (SUB_PARAMS - len(args))
         numbered[FIRST_SUB_PARAM : FIRST_SUB_PARAM + SUB_PARAMS] = values
-        self.frames.append(_Frame(name))
+        self.frames.append(Frame(name))
         self.params.frames.append({})
         self.skipping = None
         op = self.offsets.get(name)
