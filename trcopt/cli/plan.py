@@ -137,30 +137,25 @@ def _options(args: argparse.Namespace) -> PlanOptions:
     )
 
 
-def _positive_mm(text: str) -> float:
-    """``--tolerance`` value: a positive finite length, mm."""
-    import math
+def _positive(what: str) -> Callable[[str], float]:
+    """An argparse type for a positive finite ``what`` (``"length in mm"``, ``"time in s"``)."""
 
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"must be a positive finite length in mm, got {text!r}")
-    return value
+    def parse(text: str) -> float:
+        import math
+
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        if not (math.isfinite(value) and value > 0.0):
+            raise argparse.ArgumentTypeError(f"must be a positive finite {what}, got {text!r}")
+        return value
+
+    return parse
 
 
-def _positive_seconds(text: str) -> float:
-    """``--csv-step`` value: a positive finite time, s."""
-    import math
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"must be a positive finite time in s, got {text!r}")
-    return value
+_positive_mm = _positive("length in mm")  # --tolerance
+_positive_seconds = _positive("time in s")  # --csv-step
 
 
 def _workers(text: str) -> int:
