@@ -168,8 +168,8 @@ class TerminalReporter:
             if not self._stack or now - self._t0 < self.delay or (throttle and now - self._drawn_at < 0.1):
                 return
             top = self._stack[-1]
-            names = " › ".join(t.what for t in self._stack)
             width = max(40, get_terminal_size().columns - 1)
+            names = _fit([t.what for t in self._stack], max(24, width - (45 if top.total else 10)))
             if top.total:
                 line = tqdm.format_meter(min(top.n, top.total), top.total, now - top.start, ncols=width, prefix=names)
             else:
@@ -183,6 +183,17 @@ class TerminalReporter:
             self.stream.flush()
         except (OSError, ValueError):  # the terminal went away: show nothing more
             self._stack.clear()
+
+
+def _fit(names: list[str], room: int) -> str:
+    """The stage names joined outermost first; when they do not fit in ``room`` characters the
+    outer ones give way first (``… › corners (optimal) › corner problems``), so the stage running
+    now is always shown."""
+    joined = " › ".join(names)
+    while len(joined) > room and len(names) > 1:
+        names = names[1:]
+        joined = "… › " + " › ".join(names)
+    return joined
 
 
 def terminal_reporter(stream: Any = None, *, quiet: bool = False, delay: float | None = None) -> Reporter | None:

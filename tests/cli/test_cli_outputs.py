@@ -123,12 +123,14 @@ def test_a_csv_step_that_is_not_a_positive_time_is_a_usage_error(value: str, cap
 
 def test_progress_on_a_terminal_and_none_with_quiet(monkeypatch, capsys) -> None:
     monkeypatch.setattr(progress, "DELAY_S", 0.0)
+    monkeypatch.setenv("COLUMNS", "60")  # a narrow terminal: the stage running now is still shown
     terminal = _Terminal()
     monkeypatch.setattr(sys, "stderr", terminal)
     assert main(["plan", str(CORNER), "--corners", "optimal", "--workers", "1"]) == 0
     shown = terminal.getvalue()
     for what in ("reading the program", "compensating", "verifying", "corners (optimal)", "timing"):
         assert what in shown
+    assert all(len(line.replace("\x1b[K", "")) <= 59 for line in shown.split("\r"))
     assert "\r" in shown  # bars are redrawn in place and cleared
     terminal = _Terminal()
     monkeypatch.setattr(sys, "stderr", terminal)
