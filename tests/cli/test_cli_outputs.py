@@ -189,3 +189,10 @@ def test_one_error_form(tmp_path: Path, capsys) -> None:
     assert err.startswith(f"{bad}:1:") and ": error NC-" in err
     assert main(["plan", str(GEAR), "--csv", str(tmp_path / "f.csv"), "--no-timing"]) == 2
     assert capsys.readouterr().err.startswith("trcopt: error USAGE: --csv/--png need the timing stage")
+
+
+def test_a_narrow_status_line_drops_the_outer_stage_names_first() -> None:
+    names = ["planning a_very_long_program_name_from_a_cam_post.mpf", "corners (optimal)", "corner problems"]
+    assert progress._fit(names, 200) == " › ".join(names)
+    assert progress._fit(names, 40) == "… › corners (optimal) › corner problems"
+    assert progress._fit(names, 10) == "… › corner problems"  # the stage running now stays
