@@ -160,6 +160,8 @@ def assemble(
         jump = chain.max_turn <= TANGENT_TOL_RAD
         for k in chain.joints:
             turn = math.degrees(joint_turn(segs[k].geometry, segs[k + 1].geometry))  # type: ignore[arg-type]
+            if not jump and abs(math.radians(turn)) <= TANGENT_TOL_RAD:
+                continue  # a tangent joint of an arc inside the run: not a corner
             inside = not jump and turn * chain.material_sign < 0
             why = JUMP_SMOOTHED if jump else ""
             records.append(

@@ -42,38 +42,43 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly
-from trcopt.geometry.poly import parametric_curve
+from trcopt.optimize.convex import solve_qp
+from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
+from trcopt.optimize.corners.chain_spline import basis, piece, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
-from trcopt.verify.model import points_distance, points_foot
 from trcopt.verify.nearest import ElementSet
 
 if TYPE_CHECKING:
-    from scipy.interpolate import BSpline
+    pass
 
 __all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "solve_chain"]
 
 CHAIN_MAX_TURN_DEG = 20.0  # joints of larger deflection keep per-corner transitions
 CHAIN_MAX_CHORD_MM = 5.0  # longest element inside a run
 CHAIN_MIN_CORNERS = 3  # shorter runs keep per-corner transitions
+TANGENT_MAX_RAD = 1e-6  # a joint this close to tangent continues a run through an arc
 CHAIN_MAX_CORNERS = 200  # longer runs are split (the splines meet mid-chord): bounded QP size
 CHAIN_END_MM = 10.0  # most of a neighbouring element a spline end may take
 KNOT_STEP_MM = 0.5  # longest knot span of the spline
-SAMPLES_PER_SPAN = 6  # constraint samples per knot span
+SAMPLES_PER_SPAN = 3  # constraint samples per knot span
 EPS_MARGIN = 0.03  # the QP aims this fraction inside ε (linearisation between steps)
 SAG_CURVATURE = 1.0  # 1/mm: bound of the spline's curvature for the clearance margin between samples
 END_RAMP_MM = 1.0  # the clearance margin grows from 0 at the (exact) spline ends over this length
 MAX_STEPS = 6
 CONVERGED_MM = 1e-3  # largest movement across the curve of a converged step, mm
+SETTLED_MM = 5e-3  # … or this with ∫κ² improved by less than SETTLED_GAIN (relative) in the step
+SETTLED_GAIN = 2e-3
 PROX = 1e-3  # proximal weight of the step QPs, relative to the mean curvature-Hessian diagonal
 KNOT_MIN_JUMP_PER_MM = 1e-3  # smaller curvature jumps (radius ≥ 1 m next to a line) are left alone
 # a curvature-jump spline takes up to this many knot_length on each side (1, 2, 3 and 5 measured
 # under jerk limits on the gear, star and obround programs: 3 is fastest)
 KNOT_SIDE_LENGTHS = 3.0
+SLIDE = 1e-2  # weight of sliding along the curve in a step, relative to the mean curvature-Hessian diagonal
 
 
 @dataclass(frozen=True)
@@ -95,7 +100,7 @@ class ChainSite:
     radius: float
     material_sign: float
     w: float
-    max_turn: float  # rad
+    max_turn: float  # rad, largest deflection at a joint (the arcs inside the run are smooth)
 
     @cached_property
     def programmed_set(self) -> ElementSet:
@@ -124,16 +129,19 @@ def find_chains(
     (a neighbouring per-corner transition owns half of a shared element); ``contour`` the
     programmed part contour (plane elements)."""
     max_turn = math.radians(CHAIN_MAX_TURN_DEG)
-    small = [k for k in joints if abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= max_turn]
+    small = {k for k in joints if abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= max_turn}
+    # the short arcs of small sweep between the chords (the transition circles around the outside
+    # vertices of a compensated CAM contour, or short programmed arcs): their tangent joints join
+    # the run, and the spline replaces the arc with the chords around it
+    for i in range(1, len(toolpath) - 1):
+        if _small_arc(toolpath, i) and not ({i - 1, i} & set(all_joints)):
+            if all(
+                abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= TANGENT_MAX_RAD for k in (i - 1, i)
+            ):
+                small |= {i - 1, i}
     runs: list[list[int]] = []
-    for k in small:
-        g = toolpath[k].geometry
-        if (
-            runs
-            and runs[-1][-1] == k - 1
-            and isinstance(g, Line)
-            and g.plane_length <= CHAIN_MAX_CHORD_MM
-        ):
+    for k in sorted(small):
+        if runs and runs[-1][-1] == k - 1 and _chord(toolpath, k):
             runs[-1].append(k)
         else:
             runs.append([k])
@@ -145,6 +153,30 @@ def find_chains(
         size = -(-len(run) // parts)
         pieces += [run[i : i + size] for i in range(0, len(run), size)]
     return [_run_site(toolpath, run, all_joints, contour, CHAIN_END_MM) for run in pieces]
+
+
+def _chord(toolpath: Sequence, i: int) -> bool:
+    """Whether ``toolpath[i]`` may lie inside a run: a short plane feed line or a short arc of small
+    sweep."""
+    seg = toolpath[i]
+    g = seg.geometry
+    if seg.is_rapid or not isinstance(g, Line | Arc) or g.start[2] != g.end[2]:
+        return False
+    if isinstance(g, Line):
+        return g.plane_length <= CHAIN_MAX_CHORD_MM
+    return _small_arc(toolpath, i)
+
+
+def _small_arc(toolpath: Sequence, i: int) -> bool:
+    seg = toolpath[i]
+    g = seg.geometry
+    return (
+        isinstance(g, Arc)
+        and not seg.is_rapid
+        and g.w0 == g.w1
+        and abs(g.sweep) <= math.radians(CHAIN_MAX_TURN_DEG)
+        and g.plane_length <= CHAIN_MAX_CHORD_MM
+    )
 
 
 def knot_length(curvature_change: float, eps: float) -> float:
@@ -161,9 +193,7 @@ def knot_site(
     arcs of different curvature, or both joints of a G450 transition circle) as one run: the
     spline takes up to KNOT_SIDE_LENGTHS·:func:`knot_length` (of the largest jump) of each end
     element (half of an element shared with another site)."""
-    dk = max(
-        abs(signed_curvature(toolpath[k + 1].geometry) - signed_curvature(toolpath[k].geometry)) for k in joints
-    )
+    dk = max(abs(signed_curvature(toolpath[k + 1].geometry) - signed_curvature(toolpath[k].geometry)) for k in joints)
     side = min(KNOT_SIDE_LENGTHS * knot_length(dk, eps), CHAIN_END_MM)
     return _run_site(toolpath, list(joints), all_joints, contour, side)
 
@@ -199,26 +229,6 @@ def _boxes_meet(e: Line | Arc, lo: np.ndarray, hi: np.ndarray) -> bool:
     return bool(np.all(pts.max(axis=0) >= lo) and np.all(pts.min(axis=0) <= hi))
 
 
-# ------------------------------------------------------------------------------ reference path
-class _Reference:
-    """The exact elements of the run as a function of arc length s."""
-
-    def __init__(self, elements: Sequence[Line | Arc]) -> None:
-        self.elements = list(elements)
-        self.cum = np.concatenate(([0.0], np.cumsum([e.plane_length for e in elements])))
-        self.length = float(self.cum[-1])
-
-    def points(self, s: np.ndarray) -> np.ndarray:
-        idx = np.clip(np.searchsorted(self.cum, s, side="right") - 1, 0, len(self.elements) - 1)
-        out = np.empty((len(s), 2))
-        for i, e in enumerate(self.elements):
-            m = idx == i
-            if np.any(m):
-                lam = np.clip((s[m] - self.cum[i]) / e.plane_length, 0.0, 1.0)
-                out[m] = np.array([e.point2(float(x)) for x in lam])
-        return out
-
-
 def _end_frame(e: Line | Arc, at_end: bool) -> tuple[np.ndarray, np.ndarray, float]:
     """Point, unit tangent and signed curvature (left positive) of ``e`` at its start or end."""
     p = np.array(e.point2(1.0 if at_end else 0.0))
@@ -227,233 +237,180 @@ def _end_frame(e: Line | Arc, at_end: bool) -> tuple[np.ndarray, np.ndarray, flo
     return p, t, k
 
 
-def _basis(knots: np.ndarray, x: np.ndarray, nu: int, n: int) -> np.ndarray:
-    from scipy.interpolate import BSpline
-
-    return BSpline(knots, np.eye(n), 3, extrapolate=False)(x, nu) if nu else BSpline(knots, np.eye(n), 3)(x)
+def _sag_margin(x: np.ndarray, B1: Any, B2: Any, n: int, gap: float, ramp: np.ndarray) -> np.ndarray:
+    """Per sample, how much closer the curve may come to a line between two samples ``gap`` apart:
+    κ·gap²/8 with κ 1.5× the largest curvature of the current spline around the sample (at most
+    SAG_CURVATURE), fading to 0 at the exact ends (``ramp``)."""
+    d1 = np.stack((B1 @ x[:n], B1 @ x[n:]), axis=1)
+    d2 = np.stack((B2 @ x[:n], B2 @ x[n:]), axis=1)
+    kappa = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(np.hypot(d1[:, 0], d1[:, 1]), 1e-9) ** 3
+    k = SAMPLES_PER_SPAN
+    padded = np.pad(kappa, k, mode="edge")
+    local = np.max(np.stack([padded[i : i + len(kappa)] for i in range(2 * k + 1)]), axis=0)
+    return ramp * (np.minimum(1.5 * local, SAG_CURVATURE) * gap * gap / 8.0 + 1e-7)
 
 
 def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM) -> ChainSolution:
     """The least-∫κ² cubic spline across the run within ε of the exact cut and ≥ R from the part."""
-    import osqp
     from scipy import sparse
     from scipy.interpolate import BSpline
+    from scipy.sparse.linalg import spsolve
+    from scipy.spatial import cKDTree
 
     t0 = time.perf_counter()
-    ref = _Reference(site.elements)
-    S = ref.length
-    chords = [e.plane_length for e in site.elements[1:-1]]
+    ref = Elements(site.elements)
+    cum = np.concatenate(([0.0], np.cumsum(ref.length)))
+    S = float(cum[-1])
+    chords = [e.plane_length for e in site.elements[1:-1] if isinstance(e, Line)]
     h = min(knot_step, 0.5 * min(chords)) if chords else knot_step
+    # a corner of deflection θ rounded within ε turns over about 8ε/θ (the circle of that sag):
+    # three knot spans there
+    h = min(h, 8.0 * eps / (3.0 * max(site.max_turn, 1e-9)))
     n_span = max(4, int(math.ceil(S / h)))
     breaks = np.linspace(0.0, S, n_span + 1)
     knots = np.concatenate(([0.0] * 3, breaks, [S] * 3))
     n = n_span + 3
     # constraint samples and Gauss points of the objective (C″ is linear on a span: 2 points exact)
-    spans = zip(breaks, breaks[1:], strict=False)
-    xs = np.concatenate([np.linspace(a, b, SAMPLES_PER_SPAN, endpoint=False) for a, b in spans])
-    joints_s = np.array([sum(e.plane_length for e in site.full[: i + 1]) for i in range(len(site.full) - 1)])
-    joints_s -= site.full[0].plane_length - site.elements[0].plane_length
+    xs = (breaks[:-1, None] + np.diff(breaks)[:, None] * np.arange(SAMPLES_PER_SPAN) / SAMPLES_PER_SPAN).ravel()
+    joints_s = cum[1:-1]
     xs = np.unique(np.concatenate((xs, [S], joints_s)))
     j_at = np.searchsorted(xs, joints_s)  # sample index of every joint (between full[i] and full[i+1])
     g = 0.5 / math.sqrt(3.0)
     mid, half = 0.5 * (breaks[1:] + breaks[:-1]), breaks[1:] - breaks[:-1]
     xg = np.concatenate((mid - g * half, mid + g * half))
     wg = np.concatenate((0.5 * half, 0.5 * half))
-    B0 = _basis(knots, xs, 0, n)
-    B1 = _basis(knots, xs, 1, n)
-    B0s = sparse.csr_matrix(np.where(np.abs(B0) > 1e-15, B0, 0.0))
-    B2g = _basis(knots, xg, 2, n)
+    B0s = basis(knots, xs, 0, n)
+    B1s = basis(knots, xs, 1, n)
+    B2g = basis(knots, xg, 2, n)
     ends = np.array([0.0, S])
-    E0, E1, E2 = (_basis(knots, ends, nu, n) for nu in (0, 1, 2))
+    E0, E1, E2 = (basis(knots, ends, nu, n).toarray() for nu in (0, 1, 2))
     # objective ½ xᵀPx: ∫|C″|² for x and y (a tiny ridge keeps P positive definite)
-    H = B2g.T @ (wg[:, None] * B2g)
-    H = 2.0 * H + 1e-10 * np.eye(n)
+    H = (B2g.T @ sparse.diags(wg) @ B2g).tocsc()
+    H = 2.0 * H + 1e-10 * sparse.eye(n)
     Pm = sparse.block_diag((H, H), format="csc")
-    # proximal term on the step (vanishes at the fixed point): conditions the ADMM iterations
-    Pprox = (Pm + PROX * float(np.mean(np.diag(H))) * sparse.eye(2 * n)).tocsc()
-
-    def xy_rows(Bm: Any, vecs: np.ndarray) -> Any:
-        """Rows of v·C(s) for rows of the basis ``Bm`` and directions ``vecs`` (k×2)."""
-        if sparse.issparse(Bm):
-            return sparse.hstack((sparse.diags(vecs[:, 0]) @ Bm, sparse.diags(vecs[:, 1]) @ Bm))
-        return np.hstack((Bm * vecs[:, :1], Bm * vecs[:, 1:]))
+    # proximal term on the step (vanishes at the fixed point): keeps the linearisation local
+    h_scale = float(np.mean(H.diagonal()))
+    Pprox = (Pm + PROX * h_scale * sparse.eye(2 * n)).tocsc()
 
     # end conditions: position, tangent (unit speed) and normal curvature of the neighbours
     eq_rows, eq_val = [], []
     for j, at_end in ((0, False), (1, True)):
-        el = site.elements[-1] if at_end else site.elements[0]
-        p, t, kap = _end_frame(el, at_end)
+        p, t, kap = _end_frame(site.elements[-1] if at_end else site.elements[0], at_end)
         nrm = np.array([-t[1], t[0]])
-        for vec, val, Bm in (
-            (np.array([1.0, 0.0]), p[0], E0),
-            (np.array([0.0, 1.0]), p[1], E0),
-            (np.array([1.0, 0.0]), t[0], E1),
-            (np.array([0.0, 1.0]), t[1], E1),
-            (nrm, kap, E2),
-        ):
-            eq_rows.append(xy_rows(Bm[j : j + 1], vec[None, :])[0])
+        for vec, val, Bm in (((1.0, 0.0), p[0], E0), ((0.0, 1.0), p[1], E0), ((1.0, 0.0), t[0], E1),
+                             ((0.0, 1.0), t[1], E1), (nrm, kap, E2)):  # fmt: skip
+            eq_rows.append(np.concatenate((Bm[j] * vec[0], Bm[j] * vec[1])))
             eq_val.append(val)
-    A_eq = np.array(eq_rows)
+    A_eq = sparse.csr_matrix(np.array(eq_rows))
     b_eq = np.array(eq_val)
 
     R = site.radius
     eps_t = eps * math.cos(0.5 * site.max_turn) * (1.0 - EPS_MARGIN)
-    # an iterate stays within ε of the exact path: farther elements cannot come within R in a step
-    reach = R + 4.0 * eps + 0.01
+    # an iterate stays within ε of the exact path and moves less than ε in a step: farther elements
+    # cannot come within R
+    reach = R + 2.0 * eps + 0.002
+    near_exact = 4.0 * eps + 0.05
     # between two samples a curve of curvature κ comes closer to a line by at most κ·Δ²/8; the ends
     # lie on the exact path (clearance exactly R), where the margin fades out
     gap = float(np.max(np.diff(xs)))
     ramp = np.clip(np.minimum(xs, S - xs) / END_RAMP_MM, 0.0, 1.0) ** 3
-    margin = ramp * (SAG_CURVATURE * gap * gap / 8.0 + 1e-7)
-    exact = list(site.full)
-    # exact path normals away from the material, per exact element (lines and arcs)
+    B2s = basis(knots, xs, 2, n)
+    prog = Elements(site.programmed)
+    exact = Elements(site.full)
+    idx = np.clip(np.searchsorted(cum, xs, side="right") - 1, 0, ref.n - 1)
+    pts = ref_pts = ref.points(idx, np.clip((xs - cum[idx]) / ref.length[idx], 0.0, 1.0))
+    # joints: the distance beyond a polyline peaks there; both elements bound it
+    joint_m = np.concatenate((j_at, j_at))
+    joint_e = np.concatenate((np.arange(len(j_at)), np.arange(len(j_at)) + 1))
+    # the QPs are posed in the step from the current spline, starting from the least-squares fit of
+    # the exact path (normal equations of the banded basis: several samples per knot span)
+    gram = (B0s.T @ B0s).tocsc()
+    fit = spsolve((gram + 1e-14 * gram.diagonal().mean() * sparse.eye(n)).tocsc(), B0s.T @ pts)
     x_cur = None
-    pts = ref.points(xs)
-    # the QPs are posed in the step from the current spline (small numbers: OSQP's residuals are
-    # absolute), starting from the least-squares fit of the exact path
-    # the least-squares fit by the normal equations of the banded B-spline basis (well conditioned
-    # with several samples per knot span; a dense lstsq costs O(samples·n²))
-    gram = (B0s.T @ B0s).toarray()
-    fit = np.linalg.solve(gram + 1e-14 * np.trace(gram) / n * np.eye(n), B0s.T @ pts)
     x_lin = np.concatenate((fit[:, 0], fit[:, 1]))
     msg = "max steps"
-    x_prev_pts = pts.copy()
     steps = 0
+    f_prev = math.inf
     for it in range(1, MAX_STEPS + 1):
         steps = it
-        rows, lo, hi = [], [], []
+        tree = cKDTree(pts)
         # no gouge: supporting half-planes of every programmed element within reach
-        for el in site.programmed:
-            d = points_distance(el, pts)
-            m = np.nonzero(d <= reach)[0]
-            if not len(m):
-                continue
-            foot = points_foot(el, pts[m])
-            nv = pts[m] - foot
-            nn = np.hypot(nv[:, 0], nv[:, 1])
-            ok = nn > 1e-9
-            m, foot, nv, nn = m[ok], foot[ok], nv[ok], nn[ok]
-            nv = nv / nn[:, None]
-            rows.append(xy_rows(B0s[m], nv))
-            lo.append(np.sum(nv * foot, axis=1) + R + margin[m])
-            hi.append(np.full(len(m), np.inf))
-        # tolerance: distance beyond the exact path on the free side (nearest exact element; at the
-        # joints, where the distance to a polyline peaks, to both elements)
-        dists = np.array([points_distance(e, pts) for e in exact])
-        near = np.argmin(dists, axis=0)
-        for i, e in enumerate(exact):
-            m = np.nonzero(near == i)[0]
-            if i >= 1:
-                m = np.union1d(m, j_at[i - 1 : i])
-            if i < len(exact) - 1:
-                m = np.union1d(m, j_at[i : i + 1])
-            if not len(m):
-                continue
-            feet, mv = _free_normals(e, pts[m], site.material_sign)
-            rows.append(xy_rows(B0s[m], mv))
-            lo.append(np.full(len(m), -np.inf))
-            hi.append(np.sum(mv * feet, axis=1) + eps_t)
-        A_s = sparse.vstack([sparse.csr_matrix(A_eq), *rows], format="csc")
-        lo_all = np.concatenate([b_eq, *lo])
-        hi_all = np.concatenate([b_eq, *hi])
-        solver = osqp.OSQP()
+        m, e = prog.near(pts, reach, tree)
+        ft = prog.feet(e, pts[m])
+        ok = ft.dist > 1e-9
+        m, e, foot = m[ok], e[ok], ft.foot[ok]
+        nv = (pts[m] - foot) / ft.dist[ok][:, None]
+        block = [rows(B0s, m, nv, n)]
+        # at least R, or as far as the exact path is at that place where it is closer (the
+        # controller's near-tangent joints: R·(1 − cos turn) at most, accepted by the verification)
+        clear_ref = np.minimum(R, prog.feet(e, ref_pts[m]).dist)
+        lo = [np.sum(nv * foot, axis=1) + clear_ref + _sag_margin(x_lin, B1s, B2s, n, gap, ramp)[m]]
+        hi = [np.full(len(m), np.inf)]
+        # tolerance: distance beyond the exact path on the free side (nearest exact element, and
+        # both elements at the joints)
+        m, e = nearest(exact, pts, near_exact, tree)
+        m, e = np.concatenate((m, joint_m)), np.concatenate((e, joint_e))
+        feet, mv = free_directions(exact, e, pts[m], site.material_sign)
+        block.append(rows(B0s, m, mv, n))
+        lo.append(np.full(len(m), -np.inf))
+        hi.append(np.sum(mv * feet, axis=1) + eps_t)
+        A_s = sparse.vstack([A_eq, *block], format="csr")
         ax = A_s @ x_lin
-        solver.setup(
-            Pprox, Pm @ x_lin, A_s, lo_all - ax, hi_all - ax, verbose=False, eps_abs=1e-5, eps_rel=1e-5,
-            max_iter=40000, rho=1e-3, polishing=True,
-        )
-        res = solver.solve(raise_error=False)
-        if res.x is None or not np.all(np.isfinite(res.x)) or res.info.status_val not in (1, 2):
-            msg = f"osqp: {res.info.status}"
-            break
-        x_cur = x_lin = x_lin + np.asarray(res.x)
-        new_pts = np.stack((B0 @ x_cur[:n], B0 @ x_cur[n:]), axis=1)
-        # movement across the curve (sliding along it is a change of parametrisation only)
-        tan = np.stack((B1 @ x_cur[:n], B1 @ x_cur[n:]), axis=1)
+        # sliding along the curve changes only the parametrisation: penalised, so the spline keeps
+        # about unit speed (its second derivative stays its curvature)
+        tan = np.stack((B1s @ x_lin[:n], B1s @ x_lin[n:]), axis=1)
         tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
-        move = new_pts - x_prev_pts
+        T = rows(B0s, np.arange(len(xs)), tan, n)
+        P_step = (Pprox + SLIDE * h_scale * (T.T @ T)).tocsc()
+        res = solve_qp(P_step, Pm @ x_lin, A_s, np.concatenate([b_eq, *lo]) - ax, np.concatenate([b_eq, *hi]) - ax)
+        if res.x is None:
+            msg = f"qp: {res.status}"
+            break
+        x_cur = x_lin = x_lin + res.x
+        new_pts = np.stack((B0s @ x_cur[:n], B0s @ x_cur[n:]), axis=1)
+        # movement across the curve (sliding along it is a change of parametrisation only)
+        tan = np.stack((B1s @ x_cur[:n], B1s @ x_cur[n:]), axis=1)
+        tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
+        move = new_pts - pts
         step = float(np.max(np.abs(move[:, 0] * tan[:, 1] - move[:, 1] * tan[:, 0])))
-        pts = x_prev_pts = new_pts
-        if step < CONVERGED_MM:
+        pts = new_pts
+        f = 0.5 * float(x_cur @ (Pm @ x_cur))
+        # converged: the curve stopped moving, or it moves a few µm a step with ∫κ² settled (the
+        # linearised half-planes turn a little at every step; the final checks are exact)
+        if step < CONVERGED_MM or (step < SETTLED_MM and f_prev - f < SETTLED_GAIN * f_prev):
             msg = "converged"
             break
+        f_prev = f
     if x_cur is None:
         return ChainSolution(False, msg, [], math.inf, 0.0, math.inf, steps, time.perf_counter() - t0)
     cx, cy = BSpline(knots, x_cur[:n], 3), BSpline(knots, x_cur[n:], 3)
     # exact checks on dense samples
     dense = np.linspace(0.0, S, max(2001, int(S / 0.01)))
     P = np.stack((cx(dense), cy(dense)), axis=1)
-    clear = site.programmed_set.min_distance(P)
-    offset = _free_offset(site, P)
+    tree = cKDTree(P)
+    m, e = prog.near(P, R + 1.0, tree)
+    clear = float(prog.feet(e, P[m]).dist.min()) if len(m) else math.inf
+    # the exact path's own clearance along the run (below R only at near-tangent joints)
+    dense_idx = np.clip(np.searchsorted(cum, dense, side="right") - 1, 0, ref.n - 1)
+    Q = ref.points(dense_idx, np.clip((dense - cum[dense_idx]) / ref.length[dense_idx], 0.0, 1.0))
+    m, e = prog.near(Q, R, cKDTree(Q))
+    need = min(R, float(prog.feet(e, Q[m]).dist.min()) if len(m) else R) - 1e-9
+    m, e = nearest(exact, P, near_exact + eps, tree)
+    feet, mv = free_directions(exact, e, P[m], site.material_sign)
+    offset = max(0.0, float(np.sum((P[m] - feet) * mv, axis=1).max(initial=0.0)))
+    if len(m) < len(P):  # a point farther than that from the exact path
+        offset = math.inf
     d1 = np.stack((cx(dense, 1), cy(dense, 1)), axis=1)
     d2 = np.stack((cx(dense, 2), cy(dense, 2)), axis=1)
     sp = np.hypot(d1[:, 0], d1[:, 1])
     kappa = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(sp, 1e-300) ** 3
-    ok = clear >= R - 1e-9 and offset <= eps and float(sp.min()) > 0.2
+    ok = clear >= need and offset <= eps and float(sp.min()) > 0.2
     if not ok:
-        why = f"clearance {clear:.6f} < R" if clear < R - 1e-9 else f"offset {offset:.5f} mm > ε"
+        why = f"clearance {clear:.6f} < R" if clear < need else f"offset {offset:.5f} mm > ε"
         if float(sp.min()) <= 0.2:
             why = "degenerate parametrisation"
         msg = f"{msg}; {why}"
-    cuts = np.concatenate(([0.0], ref.cum[1:-1], [S]))
-    pieces = [_piece(cx, cy, a, b, site.w) for a, b in zip(cuts, cuts[1:], strict=False)] if ok else []
+    cuts = np.concatenate(([0.0], cum[1:-1], [S]))
+    pp = ppoly(cx, cy) if ok else None
+    pieces = [piece(pp, a, b, site.w) for a, b in zip(cuts, cuts[1:], strict=False)] if pp is not None else []
     return ChainSolution(ok, msg, pieces, float(kappa.max()), clear, offset, steps, time.perf_counter() - t0)
-
-
-def _lam_of(e: Line | Arc, feet: np.ndarray) -> np.ndarray:
-    if isinstance(e, Line):
-        a, b = np.array(e.start2), np.array(e.end2)
-        d = b - a
-        return np.clip((feet - a) @ d / float(d @ d), 0.0, 1.0)
-    ang = np.arctan2(feet[:, 1] - e.center[1], feet[:, 0] - e.center[0])
-    return np.clip(np.mod((ang - e.a0) * np.sign(e.sweep), 2 * math.pi) / abs(e.sweep), 0.0, 1.0)
-
-
-def _tangents(e: Line | Arc, lam: np.ndarray) -> np.ndarray:
-    if isinstance(e, Line):
-        return np.repeat(np.array([e.direction2()], float), len(lam), axis=0)
-    return np.array([e.tangent2(float(x)) for x in lam], float).reshape(-1, 2)
-
-
-def _free_normals(e: Line | Arc, P: np.ndarray, material_sign: float) -> tuple[np.ndarray, np.ndarray]:
-    """Foot points on ``e`` and unit directions of the distance beyond ``e`` on the side away from
-    the material (the element normal; radial beyond an end, in the outer wedge of a vertex)."""
-    f = points_foot(e, P)
-    lam = _lam_of(e, f)
-    tan = _tangents(e, lam)
-    free = -material_sign * np.stack((-tan[:, 1], tan[:, 0]), axis=1)
-    off = P - f
-    dn = np.hypot(off[:, 0], off[:, 1])
-    at_end = (lam <= 1e-12) | (lam >= 1.0 - 1e-12)
-    radial = at_end & (dn > 1e-9) & (np.sum(off * free, axis=1) > 0.0)
-    return f, np.where(radial[:, None], off / np.maximum(dn, 1e-300)[:, None], free)
-
-
-def _free_offset(site: ChainSite, P: np.ndarray) -> float:
-    """Largest distance of the points beyond the exact path on the side away from the material."""
-    worst = 0.0
-    near = np.argmin(np.array([points_distance(e, P) for e in site.full]), axis=0)
-    for i, e in enumerate(site.full):
-        m = near == i
-        if np.any(m):
-            feet, mv = _free_normals(e, P[m], site.material_sign)
-            worst = max(worst, float(np.sum((P[m] - feet) * mv, axis=1).max()))
-    return worst
-
-
-def _piece(cx: BSpline, cy: BSpline, a: float, b: float, w: float) -> Poly:
-    L = b - a
-
-    def f(u: float) -> tuple[float, float, float]:
-        s = a + u * L
-        return float(cx(s)), float(cy(s)), w
-
-    def df(u: float) -> tuple[float, float, float]:
-        s = a + u * L
-        return float(cx(s, 1)) * L, float(cy(s, 1)) * L, 0.0
-
-    def d2f(u: float) -> tuple[float, float, float]:
-        s = a + u * L
-        return float(cx(s, 2)) * L * L, float(cy(s, 2)) * L * L, 0.0
-
-    return parametric_curve(f, df, d2f, "chain-spline")

@@ -105,7 +105,13 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
         peak = {c.index: c.max_curvature for c in circles.corners if c.blended}
         flatter = lambda chain: _spline_may_be_flatter(segs, chain, peak)  # noqa: E731
     plan.splines, plan.kept = _solve_chains(
-        segs, job.programmed, sites, job.tolerance_mm, runs=job.chains, knots=jumps and job.chains, keep=flatter,
+        segs,
+        job.programmed,
+        sites,
+        job.tolerance_mm,
+        runs=job.chains,
+        knots=jumps and job.chains,
+        keep=flatter,
         workers=job.workers,
     )
     if circles is not None and not plan.splines and all(_two_lines(site) for _, site in sites):
@@ -150,9 +156,7 @@ def _solve_chains(
     jumps = curvature_jump_joints(segs, owned) if knots else []
     owned |= set(jumps)
     contour = [
-        p.geometry
-        for p in part_contour(programmed, segs)
-        if isinstance(p.geometry, Line | Arc) and not p.is_rapid
+        p.geometry for p in part_contour(programmed, segs) if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
     eps = (1.0 - TARGET_MARGIN) * tolerance_mm
     out, kept = [], []
@@ -191,7 +195,8 @@ def _chain_solutions(found: list[ChainSite], eps: float, workers: int) -> list[C
 def _with_reason(result: CornerResult) -> CornerResult:
     """The circular blends without a G2 solution say why they are circular."""
     result.corners = [
-        replace(c, reason=CIRCLE_REASON) if c.transition is TransitionKind.ARC and c.solution is None and not c.reason
+        replace(c, reason=CIRCLE_REASON)
+        if c.transition is TransitionKind.ARC and c.solution is None and not c.reason
         else c
         for c in result.corners
     ]
@@ -203,8 +208,13 @@ def _spline_may_be_flatter(segs: list[Segment], chain: ChainSite, peak: dict[int
     blends at its joints (``peak``, 1/mm, by joint): the spline turns by the run's net turn Θ over
     about the run's length S, so its peak curvature is at least Θ/S; where the circles are already
     flatter than that, the spline cannot carry more speed and is not solved."""
-    kappa = [peak.get(k) for k in chain.joints]
+    kappa = [
+        peak.get(k) for k in chain.joints if abs(joint_turn(segs[k].geometry, segs[k + 1].geometry)) > TANGENT_TOL_RAD
+    ]  # type: ignore[arg-type]
     if any(x is None for x in kappa):
+        return True
+    kappa += [1.0 / e.radius for e in chain.full[1:-1] if isinstance(e, Arc)]  # the arcs it replaces
+    if not kappa:
         return True
     theta = abs(sum(joint_turn(segs[k].geometry, segs[k + 1].geometry) for k in chain.joints))  # type: ignore[arg-type]
     length = sum(e.plane_length for e in chain.full)

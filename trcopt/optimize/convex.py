@@ -1,0 +1,67 @@
+"""Convex quadratic programs of the corner optimisation, solved by an interior-point method.
+
+The corner problems (one G2 quintic per corner, one smoothing spline per run of CAM chords) are
+small sparse QPs, ``min ½xᵀPx + qᵀx`` subject to ``lo ≤ Ax ≤ hi``, solved many times in sequential
+convex programming. They are badly scaled (micrometre tolerances beside millimetre lengths) and
+often have many nearly active rows (the no-gouge half-planes along a contour): a first-order method
+(ADMM) needs thousands of iterations for them and sometimes stops at its iteration limit, while an
+interior-point method reaches 1e-8 accuracy in 10–40 Newton steps whatever the scaling. They are
+solved with Clarabel (``clarabel``), rows with ``lo == hi`` as equalities.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = ["QPResult", "solve_qp"]
+
+SOLVED = ("Solved", "AlmostSolved")
+
+
+@dataclass
+class QPResult:
+    """``x`` (None when the solver found no solution), the solver's ``status`` and ``iterations``."""
+
+    x: np.ndarray | None
+    status: str
+    iterations: int
+
+    @property
+    def ok(self) -> bool:
+        return self.x is not None
+
+
+def solve_qp(P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, max_iter: int = 200) -> QPResult:
+    """The minimiser of ``½xᵀPx + qᵀx`` subject to ``lo ≤ Ax ≤ hi`` (``P`` symmetric positive
+    semidefinite, sparse or dense; infinite bounds are absent rows; ``lo == hi`` an equality)."""
+    import clarabel
+    from scipy import sparse
+
+    A = sparse.csr_matrix(A)
+    lo = np.asarray(lo, float)
+    hi = np.asarray(hi, float)
+    eq = np.isfinite(lo) & np.isfinite(hi) & (hi - lo <= 1e-12 * np.maximum(1.0, np.abs(hi)))
+    below = np.isfinite(lo) & ~eq
+    above = np.isfinite(hi) & ~eq
+    # Clarabel's form: A'x + s = b, s in the cones (zero cone: equalities; s ≥ 0: inequalities)
+    A_c = sparse.vstack((A[eq], -A[below], A[above]), format="csc")
+    b = np.concatenate((hi[eq], -lo[below], hi[above]))
+    cones = []
+    if eq.any():
+        cones.append(clarabel.ZeroConeT(int(eq.sum())))
+    if below.any() or above.any():
+        cones.append(clarabel.NonnegativeConeT(int(below.sum() + above.sum())))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.max_iter = max_iter
+    solver = clarabel.DefaultSolver(
+        sparse.triu(sparse.csc_matrix(P), format="csc"), np.asarray(q, float), A_c, b, cones, settings
+    )
+    sol = solver.solve()
+    status = str(sol.status)
+    x = np.asarray(sol.x, float)
+    ok = status in SOLVED and x.shape == (np.shape(q)[0],) and bool(np.all(np.isfinite(x)))
+    return QPResult(x if ok else None, status, int(sol.iterations))
