@@ -1,4 +1,4 @@
-"""One corner transition as an SQP of OSQP quadratic programs (issue 6, part 1).
+"""One corner transition as an SQP of convex quadratic programs (issue 6, part 1).
 
 A tangent discontinuity J of the tool-centre path between element ``a`` (incoming) and ``b``
 (outgoing) is replaced by a quintic Hermite curve from a point A on ``a`` (arc length ``sa``
@@ -18,8 +18,9 @@ Constraints (all evaluated exactly on samples, linearised by finite differences)
 Objective: the largest |curvature| (epigraph variable), the time surrogate of a corner (speed
 through it ≈ sqrt(a/κ)); under jerk limits (``limits=(amax, jmax)``) the larger of |κ| and the
 curvature equivalent of the curvature rate, ``amax·(|dκ/ds|/jmax)^(2/3)`` (following a curvature
-change at speed v takes jerk v³·|dκ/ds|). Each SQP step solves an OSQP QP in scaled variables with
-a proximal term and a trust region; steps are accepted on an exact merit function.
+change at speed v takes jerk v³·|dκ/ds|). Each SQP step solves a QP
+(:func:`~trcopt.optimize.convex.solve_qp`) in scaled variables with a proximal term and a trust
+region; steps are accepted on an exact merit function.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from trcopt.optimize.convex import solve_qp
 from trcopt.optimize.corners.curves import frame_back, frame_forward, quintic_basis, quintic_third_basis, rot90
 from trcopt.optimize.corners.sites import CornerSite
 from trcopt.solution import Solution, SolveStatus
@@ -62,7 +64,7 @@ CornerSolution = Solution[CornerGeometry]
 
 
 class CornerBlendProblem:
-    """The transition at one corner as an inspectable SQP; each step is an OSQP QP.
+    """The transition at one corner as an inspectable SQP; each step is a convex QP.
 
     Build, inspect (``x0``, :meth:`evaluate`, :meth:`qp_matrices` → P, q, A, l, u of the first
     step), then :meth:`solve`.
@@ -206,7 +208,7 @@ class CornerBlendProblem:
     def qp_matrices(
         self, x: np.ndarray | None = None, trust: float | None = None
     ) -> tuple[Any, np.ndarray, Any, np.ndarray, np.ndarray]:
-        """OSQP data (P, q, A, l, u) of the SQP step at ``x`` in the scaled variables (y, t),
+        """QP data (P, q, A, l, u) of the SQP step at ``x`` in the scaled variables (y, t),
         ``y = Δx/L`` with ``L = sa + sb`` (:meth:`step_scale`):
 
         min t + ½·ρ·|y|²  s.t.  (|κ_k| + ∇|κ_k|·L·y)/κ_ref ≤ t,  (g + ∇g·L·y)/ε ≤ 0,  bounds,
@@ -264,10 +266,8 @@ class CornerBlendProblem:
         return float(k.max()), float(max(0.0, g.max()))
 
     def solve(self, max_iter: int = 30) -> CornerSolution:
-        """SQP iterations (OSQP per step); returns the best iterate whose exact sampled constraints
+        """SQP iterations (an interior-point QP per step); returns the best iterate whose exact sampled constraints
         hold. Stops when the peak curvature improves by < 0.1 % over three accepted steps."""
-        import osqp
-
         t0 = time.perf_counter()
         x = self.x0.copy()
         f, v = self._merit(x)
@@ -283,19 +283,14 @@ class CornerBlendProblem:
         for it in range(1, max_iter + 1):
             done = it
             P, q, A, lo, hi = self.qp_matrices(x, trust)
-            solver = osqp.OSQP()
-            solver.setup(
-                P, q, A, lo, hi, verbose=False, eps_abs=1e-7, eps_rel=1e-7, max_iter=20000, polishing=True,
-                adaptive_rho_interval=25,
-            )
-            res = solver.solve(raise_error=False)
-            if res.x is None or not np.all(np.isfinite(res.x)) or res.info.status_val not in (1, 2):
+            res = solve_qp(P, q, A, lo, hi)
+            if res.x is None:
                 trust *= 0.25
                 if trust < 1e-7 * L:
-                    status_msg = f"osqp: {res.info.status}"
+                    status_msg = f"qp: {res.status}"
                     break
                 continue
-            dx = self.step_scale(x) * np.asarray(res.x[: self.N_VAR])
+            dx = self.step_scale(x) * res.x[: self.N_VAR]
             xn = x + dx
             fn, vn = self._merit(xn)
             mu = 10.0 * max(f, 1e-6) / max(self.eps, 1e-9)
@@ -342,7 +337,7 @@ class CornerBlendProblem:
                 "clearance": max(0.0, self.site.radius - geom.min_clearance),
             },
             status_msg,
-            "osqp-sqp",
+            "clarabel-sqp",
         )
 
     def _feasible(self, x: np.ndarray, dense: bool = False) -> bool:
