@@ -193,6 +193,7 @@ class Code(enum.StrEnum):
     PLAN_JSON = "PLAN-JSON"
     SCHEMA = "SCHEMA"
     DXF_MISSING = "DXF-MISSING"
+    HH_M120 = "HH-M120"
 
 
 MEANING: dict[Code, str] = {
@@ -366,6 +367,9 @@ MEANING: dict[Code, str] = {
     Code.PLAN_JSON: "the plan JSON cannot be written (e.g. a non-finite number)",
     Code.SCHEMA: "a plan JSON document does not follow the schema",
     Code.DXF_MISSING: "DXF export needs the optional package ezdxf (pip install 'trcopt[dxf]')",
+    Code.HH_M120: "M120 LA (radius-compensated look-ahead) programmed where the TNC refuses it: LA not a whole "
+    "number 0…99, LA without M120, M120 LA without RL/RR or outside a positioning block, a cycle that needs "
+    "M120 cancelled",
 }
 
 _FAMILIES = {

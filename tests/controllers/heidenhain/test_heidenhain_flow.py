@@ -201,7 +201,7 @@ def test_jumps_skip_blocks_and_labels_may_be_names():
         (("CYCL CALL",), Code.HH_NOT_MODELLED, "3"),
         (("CYCL DEF 1.0 PECKING",), Code.HH_NOT_MODELLED, "3"),
         (("L X+0 Y+0 R0 FMAX M91",), Code.HH_NOT_MODELLED, "3"),
-        (("L X+0 Y+0 R0 FMAX M120 LA5",), Code.HH_NOT_MODELLED, "3"),
+        (("L X+0 Y+0 R0 FMAX M120 LA5",), Code.HH_M120, "3"),
         (("CALL PGM NOT_THERE",), Code.HH_PGM_MISSING, "3"),
     ],
 )

@@ -19,7 +19,7 @@ from trcopt.nc import MoveKind
 from trcopt.pipeline import PlanOptions, plan, plan_file
 
 PROBLEMS = Path(__file__).resolve().parents[3] / "problems" / "siemens"
-PAIRS = ["ex14_flow", "ex15_frames", "ex16_drilling"]
+PAIRS = ["ex14_flow", "ex15_frames", "ex16_drilling", "ex18_branch"]
 TOOL = "$TC_DP1[1,1]=120 $TC_DP6[1,1]=5\n"
 
 

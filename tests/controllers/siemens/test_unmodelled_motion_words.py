@@ -21,7 +21,8 @@ def run(line: str):
     [
         ("TRAORI", 5, "kinematic transformation"),
         ("TRACYL(40)", 5, "kinematic transformation"),
-        ("CASE(R1) OF 1 GOTOF A DEFAULT GOTOF B", 5, "a branch"),
+        ("CALL BLOCK A TO B", 5, "CALL BLOCK"),  # CASE, CALL "NAME" and PCALL are modelled (test_siemens_branch)
+        ("CALL _NAME", 5, "STRING"),
     ],
 )
 def test_unmodelled_motion_word_is_a_located_error(line, column, what):

@@ -1,14 +1,15 @@
 """Heidenhain TNC conversational (Klartext): reader with contour elements, APPR/DEP and a TOML tool
-table, the shared TRC engine under the Heidenhain profile, and block-numbered G-code."""
+table, the shared TRC engine under the Heidenhain profile (with the M120 LA look-ahead limit of
+:mod:`~trcopt.controllers.heidenhain.m120`), and block-numbered G-code."""
 
 from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
 
-from trcopt.compensation.profiles import compensate_with_profile
 from trcopt.config import TrcSettings
 from trcopt.controllers.base import Controller
+from trcopt.controllers.heidenhain.m120 import compensate_heidenhain
 from trcopt.controllers.heidenhain.profile import HEIDENHAIN
 from trcopt.controllers.heidenhain.reader import read_klartext
 from trcopt.errors import Diagnostic
@@ -24,7 +25,7 @@ _BEGIN_PGM = re.compile(r"^\s*\d*\s*BEGIN\s+PGM\b", re.I | re.M)
 def _compensate(
     moves: Iterable[Move], settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool = True
 ) -> Iterator[Segment]:
-    return compensate_with_profile(moves, HEIDENHAIN, settings, diagnostics, complete=complete)
+    return compensate_heidenhain(moves, HEIDENHAIN, settings, diagnostics, complete=complete)
 
 
 CONTROLLER = Controller(

@@ -156,6 +156,7 @@ class FlowBlocks(MotionBlocks):
                 e.extra.setdefault("plane", self.plane)
                 e.extra.setdefault("seq", self.seq)
                 e.extra.setdefault("diag_mark", mark)
+                e.extra.setdefault("lookahead", self.lookahead)
             if self.ended:
                 return True
         if stack:
@@ -335,6 +336,7 @@ class FlowBlocks(MotionBlocks):
         if self.side is not Side.OFF:
             self._warn(Code.HH_PGM_CALL, "CALL PGM while RL/RR is active: compensation is cancelled at the call", span)
         self.side = self.last_on_side = Side.OFF
+        self._m120_off()
         try:
             called = self._source(decode_program(found.read_bytes(), str(found)), str(found), found)
         except (OSError, TrcoptError) as exc:

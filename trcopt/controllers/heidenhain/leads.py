@@ -30,7 +30,7 @@ __all__ = ["LeadBlocks", "LEAD_WORDS"]
 
 #: The words of an APPR block (a DEP block: without the compensation words).
 LEAD_WORDS = (
-    COORDINATE_WORDS | {"PR", "PA", "IPR", "IPA", "LEN", "CCA", "R"} | COMPENSATION_WORDS | FEED_WORDS | {"M"}
+    COORDINATE_WORDS | {"PR", "PA", "IPR", "IPA", "LEN", "CCA", "R"} | COMPENSATION_WORDS | FEED_WORDS | {"M", "LA"}
 )
 
 
@@ -70,6 +70,7 @@ class LeadBlocks(ReaderState):
                 words[comp].column,
             )
         r = self._radius(words[comp].column) if side is not Side.OFF else 0.0
+        self._m120(words, side)
         if side is Side.OFF:
             self._warn(
                 Code.HH_APPR_R0, "APPR with R0: path computed with radius 0 on side RR (iTNC 530)", span
@@ -255,3 +256,4 @@ class LeadBlocks(ReaderState):
         self.pos = self.plane.to_xyz((pn_uv[0], pn_uv[1], w_end))
         self.side = Side.OFF
         self.last_on_side = Side.OFF
+        self._m120_off()

@@ -40,7 +40,7 @@ _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
 # longest addresses first: the regex alternation takes the first that matches
 _ADDRESSES = (
     "IROT", "ROT", "SCL", "CCX", "CCY", "CCZ",
-    "IPA", "IPR", "PA", "PR", "LEN", "CCA", "DR2", "DL2", "DR", "DL",
+    "IPA", "IPR", "PA", "PR", "LEN", "LA", "CCA", "DR2", "DL2", "DR", "DL",
     "IX", "IY", "IZ", "IA", "IB", "IC", "X", "Y", "Z", "A", "B", "C", "R", "F", "S", "M", "L",
 )  # fmt: skip
 _NUM = re.compile(_NUMBER)
@@ -108,9 +108,10 @@ def lex_block(text: str, line: int, resolve: Callable[[str, int], float] | None 
         if merged and merged[-1][0].upper() == "F" and tok.upper() in ("MAX", "AUTO"):
             merged[-1] = (merged[-1][0] + " " + tok, merged[-1][1])
             continue
-        # "R Q5", "F Q5", "SCL 0.75": an address and its value written apart
+        # "R Q5", "F Q5", "SCL 0.75", "LA 5": an address and its value written apart
         if merged and merged[-1][0].upper() in _ADDRESSES and (
-            re.fullmatch(r"[+-]?Q[LR]?\d+", tok, re.I) or (merged[-1][0].upper() == "SCL" and _NUM.fullmatch(tok))
+            re.fullmatch(r"[+-]?Q[LR]?\d+", tok, re.I)
+            or (merged[-1][0].upper() in ("SCL", "LA") and _NUM.fullmatch(tok))
         ):
             merged[-1] = (merged[-1][0] + tok, merged[-1][1])
             continue

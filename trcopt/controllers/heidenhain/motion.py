@@ -86,6 +86,7 @@ class MotionBlocks(LeadBlocks):
                     words[comp].column,
                 )
             side = Side.OFF
+        self._m120(words, side)
         radius = self._radius(words[comp].column if comp else None) if side is not Side.OFF else 0.0
         if comp in ("R+", "R-"):
             if self.side is not Side.OFF:
@@ -156,6 +157,8 @@ class MotionBlocks(LeadBlocks):
             self.last_on_side = side
         elif moving_plane:
             self.last_on_side = Side.OFF
+        if side is Side.OFF:
+            self._m120_off()
         self.side = side
 
     def _paraxial(self, words: dict[str, Word], comp: str, target: Vec3) -> Vec3:

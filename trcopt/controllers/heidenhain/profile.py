@@ -14,6 +14,9 @@ M97                       ``CornerMode.INTERSECTION`` on the block after the M97
                           deflection (``cutcom_corner_limit_deg = 180``)
 inside corner             intersection (engine default)
 collision checking        ``CollisionMode.CDOF``; no block omission: a bottleneck is an error
+M120 LA n                 ``CollisionMode.CDON`` with the search limit LA instead of MD20240
+                          (:mod:`.m120`): pieces the tool would damage are not machined; the
+                          omission of a block under M120 is warning 10763, not an error
 "Tool radius too large"   engine alarms 10751, 10758, 10763 and the CDOF contour-violation
                           warning all mean the offset path cannot exist → ``HH-TOOL-RADIUS-TOO-LARGE``
 R+ / R−                   not TRC: the front end lengthens/shortens the paraxial move itself

@@ -10,7 +10,8 @@ semantics mapped onto the engine's modes (see :mod:`trcopt.controllers.heidenhai
 * outside corners: transition arc; ``M97`` in the block that ends at the corner: intersection;
 * paraxial ``R+``/``R−`` are not TRC: the reader lengthens/shortens the one-axis move by r;
 * "tool radius too large" is checked here on the contour (:func:`.contour.radius_too_large`)
-  so the program stops at that block as the control does.
+  so the program stops at that block as the control does — except under ``M120 LA n``, where the
+  engine's collision detection leaves out what the tool cannot machine (:mod:`.m120`).
 
 Block labels are the TNC block numbers (``"15"``). Coordinates absolute mm, feeds mm/s.
 
@@ -30,12 +31,13 @@ from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE, Elem, r
 from trcopt.controllers.heidenhain.flow import FlowBlocks
 from trcopt.controllers.heidenhain.frames import FRAME_CYCLES, FrameError, apply_cycle
 from trcopt.controllers.heidenhain.lexer import Block, Word
+from trcopt.controllers.heidenhain.m120 import LookAheadMove
 from trcopt.controllers.heidenhain.state import ALLOWED_WORDS, BlockError, HeidenhainOptions
 from trcopt.controllers.heidenhain.tooltable import HhTool, find_tool_table, load_tool_table
 from trcopt.errors import ConfigError, Severity, SourceSpan
 from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
-from trcopt.modes import CornerMode, PathMode, Side, ToleranceKind
+from trcopt.modes import CollisionMode, CornerMode, PathMode, Side, ToleranceKind
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
 
@@ -155,6 +157,11 @@ class HeidenhainReader(FlowBlocks):
             except FrameError as exc:
                 raise BlockError(exc.code, exc.message, exc.column) from None
             return
+        if self.lookahead and number.split(".")[0] in ("32", "19"):
+            raise BlockError(
+                Code.HH_M120, f"CYCL DEF {number}: cancel M120 (and the radius compensation) before this cycle",
+                words[0].column,
+            )
         if number.split(".")[0] != "32":
             raise BlockError(
                 Code.HH_NOT_MODELLED,
@@ -250,6 +257,11 @@ class HeidenhainReader(FlowBlocks):
                 cur = []
                 regions.append(cur)
                 continue  # the selection line
+            if e.extra.get("lookahead"):
+                # under M120 the look-ahead leaves out what the tool cannot machine (engine CDON)
+                cur = []
+                regions.append(cur)
+                continue
             if moving:
                 cur.append(e)
         for region in regions:
@@ -290,11 +302,14 @@ class HeidenhainReader(FlowBlocks):
                 )
             plane = e.extra.get("plane", self.plane)
             assert isinstance(plane, Plane)
+            lookahead = e.extra.get("lookahead", 0) if e.side is not Side.OFF else 0
+            assert isinstance(lookahead, int)
             comp = CompState(
                 side=e.side,
                 radius=e.radius,
                 tool_active=e.tool_active,
                 corner=CornerMode.INTERSECTION if m97_before else CornerMode.TRANSITION_CIRCLE,
+                collision=CollisionMode.CDON if lookahead else CollisionMode.CDOF,
                 side_programmed=e.side_programmed,
             )
             m97_before = e.m97
@@ -319,6 +334,8 @@ class HeidenhainReader(FlowBlocks):
                     control=control,
                 )
             )
+            if lookahead:
+                moves[-1] = LookAheadMove.of(moves[-1], lookahead)
         return moves
 
 

@@ -43,13 +43,14 @@ __all__ = [
     "ALLOWED_WORDS",
     "AXIS_INDEX",
     "NOT_MODELLED_M",
+    "MAX_LOOKAHEAD",
 ]
 
 COMPENSATION_WORDS = {"RL", "RR", "R0", "R+", "R-"}
 FEED_WORDS = {"F", "FMAX", "FAUTO"}
 COORDINATE_WORDS = {"X", "Y", "Z", "IX", "IY", "IZ"}
 _POLAR_WORDS = {"PR", "IPR", "PA", "IPA"}
-_TAIL = COMPENSATION_WORDS | FEED_WORDS | {"M"}  # what every motion block may carry besides its geometry
+_TAIL = COMPENSATION_WORDS | FEED_WORDS | {"M", "LA"}  # what every motion block may carry besides its geometry
 #: The words each statement allows (APPR/DEP: :data:`~.leads.LEAD_WORDS`).
 ALLOWED_WORDS: dict[str, set[str]] = {
     "L": COORDINATE_WORDS | _TAIL,
@@ -75,12 +76,17 @@ NOT_MODELLED_M = {
     98: "completing corners of open contours",
     112: "contour transition filter",
     114: "tool-tilt compensation",
-    120: "look-ahead radius compensation M120 LA",
     124: "contour filter",
     128: "TCPM",
     130: "positioning in the untilted system",
     140: "retraction along the tool axis",
 }
+
+
+#: The largest M120 look-ahead LA (TNC manual: "maximum: 99").
+MAX_LOOKAHEAD = 99
+#: The statements M120 may be programmed in (a positioning block; it needs RL/RR in force).
+_M120_STATEMENTS = {"L", "LP", "C", "CR", "CT", "CP", "CTP"}
 
 
 class BlockError(Exception):
@@ -172,6 +178,7 @@ class ReaderState:
         self.seq = 0  # executed blocks so far (the order of the run, also across jumps and calls)
         self.frame = Frame()
         self.q = QParams(self._preset_q)
+        self.lookahead = 0  # M120 LA in force (0: M120 off)
 
     def _preset_q(self, name: str) -> float | None:
         """The TNC's preassigned Q parameters: Q108 compensation value, Q113 unit (0 mm, 1 inch)."""
@@ -195,6 +202,7 @@ class ReaderState:
             if m in NOT_MODELLED_M:
                 what = f"M{m} ({NOT_MODELLED_M[m]})"
                 raise BlockError(Code.HH_NOT_MODELLED, f"{what} is not modelled by trcopt", w.column)
+        self._m120_allowed(blk)
         for w in blk.words:
             if w.address == "?":
                 raise BlockError(Code.HH_SYNTAX, f"unknown word {w.text!r}", w.column)
@@ -211,6 +219,47 @@ class ReaderState:
                 raise BlockError(Code.HH_SYNTAX, "more than one compensation word (RL/RR/R0/R+/R-)", w.column)
             out[key or f"#{len(out)}"] = w
         return out
+
+    # ------------------------------------------------------------------ M120 LA (look-ahead)
+    @staticmethod
+    def _m120_allowed(blk: Block) -> None:
+        """M120 only in a positioning block (L, LP, C, CR, CT, CP, CTP, APPR), LA only with M120."""
+        m120 = next((w for w in blk.words if w.address == "M" and w.value == 120.0), None)
+        la = next((w for w in blk.words if w.address == "LA"), None)
+        if la is not None and m120 is None:
+            raise BlockError(Code.HH_M120, "LA (look-ahead) without M120 in the block", la.column)
+        if m120 is not None and blk.statement not in _M120_STATEMENTS and not blk.statement.startswith("APPR"):
+            raise BlockError(
+                Code.HH_M120,
+                f"M120 in a {blk.statement} block: M120 LA belongs in a positioning block with RL or RR",
+                m120.column,
+            )
+
+    def _m120(self, words: dict[str, Word], side: Side) -> None:
+        """``M120 LA n`` (1 ≤ n ≤ 99) switches the radius-compensated look-ahead on from the start
+        of this block, which must carry RL/RR; ``M120 LA0`` or ``M120`` without LA switch it off.
+        R0 (and DEP, CALL PGM) switch it off too (:meth:`_m120_off`)."""
+        if "M120" not in words:
+            return
+        la = words.get("LA")
+        n = 0.0 if la is None else number(la)
+        if n != int(n) or not 0 <= n <= MAX_LOOKAHEAD:
+            assert la is not None
+            raise BlockError(
+                Code.HH_M120, f"M120 LA{n:g}: the look-ahead must be a whole number of blocks 0…{MAX_LOOKAHEAD}",
+                la.column,
+            )
+        if n and side is Side.OFF:
+            raise BlockError(
+                Code.HH_M120,
+                "M120 LA needs radius compensation RL or RR in its block (R0 is in force)",
+                words["M120"].column,
+            )
+        self.lookahead = int(n)
+
+    def _m120_off(self) -> None:
+        """Radius compensation cancelled: M120 is cancelled with it."""
+        self.lookahead = 0
 
     # ------------------------------------------------------------------ frames (CYCL DEF 7/8/10/11/26)
     def _prog(self, p: Vec3) -> Vec3:
@@ -320,7 +369,9 @@ class ReaderState:
 
     @staticmethod
     def _actions(words: dict[str, Word]) -> tuple[str, ...]:
-        return tuple(k for k in words if k.startswith("M") and k[1:].isdigit())
+        """The block's M functions for the output, but M120: its look-ahead is in the tool-centre
+        path already (a tool-centre program has no RL/RR for it)."""
+        return tuple(k for k in words if k.startswith("M") and k[1:].isdigit() and k != "M120")
 
     def _uvw(self, p: Vec3) -> Vec3:
         return self.plane.to_uvw(p)

@@ -105,7 +105,7 @@ def tool_table_from_dict(
 
 def load_tool_table(path: str | os.PathLike[str]) -> dict[int, HhTool]:
     """Read a tool table TOML file (see the module docstring)."""
-    return tool_table_from_dict(read_toml(path, "tool table"), str(path))
+    return tool_table_from_dict(read_toml(Path(path), "tool table"), str(path))
 
 
 def find_tool_table(program: str) -> Path | None:

@@ -10,8 +10,10 @@ structures (Programming Manual Job Planning, "Program flow control" / "Control s
   with or without ``IF cond`` before them;
 * program section repetition ``REPEAT l1 [l2] P=n``, ``REPEATB l P=n`` (``ENDLABEL:`` ends a
   section);
-* subprogram calls (a name alone in its block, with ``(arguments)`` and ``P=n``, ``L123 P2``),
-  ``PROC`` and ``EXTERN``, ``MCALL``;
+* the program branch ``CASE(expr) OF c GOTOF l … DEFAULT GOTOF l`` (``case``, read by
+  :mod:`~trcopt.controllers.siemens.branch` when it runs);
+* subprogram calls (a name alone in its block, with ``(arguments)`` and ``P=n``, ``L123 P2``;
+  ``CALL "NAME"`` and ``PCALL path/NAME(args)``: ``indirect``), ``PROC`` and ``EXTERN``, ``MCALL``;
 * ``DEF`` lines and ordinary blocks (lexed here; a lexing error is raised when the block runs).
 
 Nothing here evaluates or runs; :mod:`trcopt.controllers.siemens.runner` does.
@@ -22,6 +24,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from trcopt.controllers.siemens.branch import CALL_LINE, CASE_LINE
 from trcopt.controllers.siemens.lexer import _FAST_LINE, _PREFIX, LexedBlock, LexError, lex_line
 from trcopt.controllers.siemens.variables import DEF_LINE
 from trcopt.errors import AlarmError, SourceSpan, alarm
@@ -68,9 +71,9 @@ class Statement:
     ``kind``: ``block`` (``lexed``, or ``error``), ``def``, ``empty``, a structure keyword in lower
     case (``if``, ``else``, ``endif``, ``while``, ``endwhile``, ``for``, ``endfor``, ``repeat``,
     ``until``, ``loop``, ``endloop``), ``section`` (``REPEAT l P=n``/``REPEATB``), ``call``,
-    ``proc``, ``extern``, ``mcall``. A block may end in a jump (``jump`` = (keyword, target,
-    condition or None, column)). ``partner``: the index of the matching structure keyword (IF →
-    ELSE or ENDIF, ELSE → ENDIF, loop start ↔ loop end).
+    ``indirect`` (``CALL``/``PCALL``), ``case``, ``proc``, ``extern``, ``mcall``. A block may end
+    in a jump (``jump`` = (keyword, target, condition or None, column)). ``partner``: the index of
+    the matching structure keyword (IF → ELSE or ENDIF, ELSE → ENDIF, loop start ↔ loop end).
     """
 
     index: int
@@ -192,6 +195,13 @@ def _statement(index: int, lineno: int, line: str, known: frozenset[str]) -> Sta
         st.kind = "empty" if label is None else "block"
         if label is not None:
             st.lexed = LexedBlock(st.skip, number, [], column, None, label)
+        return st
+    if CASE_LINE.match(body) is not None:
+        st.kind, st.rest, st.rest_column = "case", body, column
+        return st
+    c = CALL_LINE.match(body)
+    if c is not None:
+        st.kind, st.rest, st.rest_column = "indirect", body, column
         return st
     m = _STRUCT.match(body)
     if m is not None:

@@ -16,12 +16,18 @@ frame (alone in their block they delete it); the additive ones ``ATRANS``, ``ARO
 is scaled). ``ROT X… Y… Z…`` turns about Z, then Y, then X (RPY, MD10600 = 1); ``RPL=`` turns in the
 active plane. ``MIRROR X0`` reverses the X axis (the value is not used).
 
-Zero-offset file (TOML, mm in machine coordinates; only translations)::
+Zero-offset file (TOML, mm in machine coordinates)::
 
     [G54]
-    X = -250.0
+    X = -250.0      # translation (mm)
     Y = -120.0
     Z = -310.0
+    ROT_Z = 30.0    # optional: rotation about Z (degrees, counter-clockwise seen from +Z)
+    SCALE = 1.0     # optional: scale factor of all three axes (≠ 0)
+
+A settable frame is composed as a SINUMERIK frame is (translation, then rotation, then scale):
+``P_mcs = T + R(ROT_Z)·SCALE·P_szs``; the programmable frame acts inside it,
+``P_mcs = S(F(P_wcs))``.
 """
 
 from __future__ import annotations
@@ -85,6 +91,12 @@ class Frame:
         inv = _inverse(self.m)
         return tuple(inv[i][0] * q[0] + inv[i][1] * q[1] + inv[i][2] * q[2] for i in range(3))  # type: ignore[return-value]
 
+    def inverse(self) -> Frame:
+        """The map back: ``inverse().apply(apply(p)) == p``."""
+        inv = _inverse(self.m)
+        t = tuple(-sum(inv[i][k] * self.t[k] for k in range(3)) for i in range(3))
+        return Frame(inv, t)  # type: ignore[arg-type]
+
     def then(self, inner: Frame) -> Frame:
         """``self ∘ inner``: first ``inner``, then ``self``."""
         a, b = self.m, inner.m
@@ -126,6 +138,8 @@ def _inverse(m: Mat) -> Mat:
     det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
     if abs(det) < 1e-300:
         raise ArithmeticError("the frame is singular")
+    if m == IDENTITY.m:
+        return m  # exact: a pure translation maps back without rounding
     return (
         ((b[1] * c[2] - b[2] * c[1]) / det, (a[2] * c[1] - a[1] * c[2]) / det, (a[1] * b[2] - a[2] * b[1]) / det),
         ((b[2] * c[0] - b[0] * c[2]) / det, (a[0] * c[2] - a[2] * c[0]) / det, (a[2] * b[0] - a[0] * b[2]) / det),
@@ -170,46 +184,60 @@ def mirroring(axes: tuple[bool, bool, bool]) -> Frame:
 # ---------------------------------------------------------------------------------------------- zero offsets
 @dataclass(frozen=True, slots=True)
 class ZeroOffsets:
-    """Settable zero offsets by G number (translations in machine coordinates, mm)."""
+    """Settable frames by G number: each maps its settable zero system to machine coordinates (mm)."""
 
     source: str
-    offsets: dict[int, Vec]
+    offsets: dict[int, Frame]
 
-    def get(self, g: int) -> Vec | None:
+    def get(self, g: int) -> Frame | None:
         if g == 500 and g not in self.offsets:
-            return (0.0, 0.0, 0.0)  # G500: the settable frame is normally empty
+            return IDENTITY  # G500: the settable frame is normally empty
         return self.offsets.get(g)
 
 
+_OFFSET_KEYS = ("X", "Y", "Z", "ROT_Z", "SCALE")
+
+
+def _number(source: str, key: str, name: str, value: object, unit: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{source}: [{key}].{name} must be a number ({unit})")
+    if not (math.isfinite(value) and abs(value) <= MAX_COORDINATE_MM):
+        raise ConfigError(f"{source}: [{key}].{name} = {value!r} is not a finite value within ±{MAX_COORDINATE_MM:g}")
+    return float(value)
+
+
 def zero_offsets_from_dict(data: dict[str, object], source: str) -> ZeroOffsets:
-    offsets: dict[int, Vec] = {}
+    offsets: dict[int, Frame] = {}
     for key, row in data.items():
         g_text = key.upper()
         g = int(g_text[1:]) if g_text.startswith("G") and g_text[1:].isdigit() else -1
         if g not in SETTABLE_G:
             raise ConfigError(f"{source}: {key!r} is not a settable zero offset (G500, G54…G57, G505…G599)")
         if not isinstance(row, dict):
-            raise ConfigError(f"{source}: [{key}] must be a table with X, Y, Z")
-        bad = set(row) - {"X", "Y", "Z"}
+            raise ConfigError(f"{source}: [{key}] must be a table with X, Y, Z (and ROT_Z, SCALE)")
+        bad = set(row) - set(_OFFSET_KEYS)
         if bad:
-            raise ConfigError(f"{source}: [{key}]: unknown key {sorted(bad)[0]!r}; valid: X, Y, Z (translations, mm)")
-        values = []
-        for axis in "XYZ":
-            value = row.get(axis, 0.0)
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise ConfigError(f"{source}: [{key}].{axis} must be a number (mm)")
-            if not (math.isfinite(value) and abs(value) <= MAX_COORDINATE_MM):
-                raise ConfigError(
-                    f"{source}: [{key}].{axis} = {value!r} is not a finite length within ±{MAX_COORDINATE_MM:g} mm"
-                )
-            values.append(float(value))
-        offsets[g] = (values[0], values[1], values[2])
+            raise ConfigError(
+                f"{source}: [{key}]: unknown key {sorted(bad)[0]!r}; valid: X, Y, Z (translation, mm), "
+                "ROT_Z (rotation about Z, degrees), SCALE (factor)"
+            )
+        t = tuple(_number(source, key, axis, row.get(axis, 0.0), "mm") for axis in "XYZ")
+        rot = _number(source, key, "ROT_Z", row.get("ROT_Z", 0.0), "degrees")
+        scale = _number(source, key, "SCALE", row.get("SCALE", 1.0), "factor")
+        if scale == 0.0:
+            raise ConfigError(f"{source}: [{key}].SCALE = 0 makes the plane degenerate")
+        frame = translation(t)  # type: ignore[arg-type]
+        if rot != 0.0:
+            frame = frame.then(rotation(2, rot))
+        if scale != 1.0:
+            frame = frame.then(scaling((scale, scale, scale)))
+        offsets[g] = frame
     return ZeroOffsets(source, offsets)
 
 
 def load_zero_offsets(path: str | os.PathLike[str]) -> ZeroOffsets:
     """Read a zero-offset file (see the module docstring); problems raise :class:`ConfigError`."""
-    return zero_offsets_from_dict(read_toml(path, "zero-offset file"), str(path))
+    return zero_offsets_from_dict(read_toml(Path(path), "zero-offset file"), str(path))
 
 
 def find_zero_offsets(program: str) -> Path | None:

@@ -15,7 +15,9 @@
   ``=AC``; relative to the start under G91, ``=IC``), in a plane parallel to the working plane.
 * ``CT``: the circle tangent to the preceding motion at its end.
 * ``G53``/``G153``/``SUPA``: the block's axis values are machine positions,
-  ``P = P_mcs − offset(reference)``; without a zero-offset file it is an error.
+  ``P = S_ref⁻¹(P_mcs)`` with ``S_ref`` the settable frame of the reference (its translation, and
+  its rotation about Z and scale when the zero-offset file gives them); without a zero-offset
+  file it is an error. A change of settable zero offset maps ``P = S_ref⁻¹(S_active(F(P_wcs)))``.
 """
 
 from __future__ import annotations
@@ -74,10 +76,11 @@ class MotionGeometry:
             return self.frame
         active = self._offset(self.settable, span)
         ref = self._offset(self.reference, span)
-        delta = (active[0] - ref[0], active[1] - ref[1], active[2] - ref[2])
-        return translation(delta).then(self.frame)
+        # WCS → (programmable frame) → active SZS → (settable frame) → MCS → reference SZS
+        frame = ref.inverse().then(active).then(self.frame)
+        return IDENTITY if frame == IDENTITY else frame
 
-    def _offset(self, g: int, span: SourceSpan) -> Vec:
+    def _offset(self, g: int, span: SourceSpan) -> Frame:
         value = None if self.zero is None else self.zero.get(g)
         if value is None:
             where = self.zero_source if self.zero is None else f"G{g} is not in {self.zero.source}"
@@ -218,17 +221,22 @@ class MotionGeometry:
             raise fail(Code.NC_UNSUPPORTED, "polar coordinates in machine coordinates (G53/G153/SUPA)", span)
         if self.reference is None:
             self.reference = self.settable
-        off = self._offset(self.reference, span)
+        ref = self._offset(self.reference, span)
         pos = st.position
-        end = list(pos)
+        here = ref.apply(pos)  # the machine position now
+        goal = list(here)
         machine: list[float | None] = [None, None, None]
         for i in (0, 1, 2):
             a = b.axes[i]
             if a is not None:
-                end[i] = a[0] - off[i] if a[1] else pos[i] + a[0]
-                machine[i] = end[i] + off[i]
+                goal[i] = a[0] if a[1] else here[i] + a[0]
+                machine[i] = goal[i]
         if not any(m is not None for m in machine):
             return _NONE, pos, None, None, False, span
+        if ref.m == IDENTITY.m:  # a translation: the unprogrammed axes stay exactly where they are
+            end = [goal[i] - ref.t[i] if machine[i] is not None else pos[i] for i in (0, 1, 2)]
+        else:
+            end = list(ref.invert((goal[0], goal[1], goal[2])))
         u, v, _ = st.plane.axes
         span = dataclasses.replace(span, machine=(machine[0], machine[1], machine[2]))
         return st.motion, (end[0], end[1], end[2]), None, None, b.axes[u] is not None or b.axes[v] is not None, span

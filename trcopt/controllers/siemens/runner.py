@@ -25,6 +25,7 @@ import re
 from dataclasses import dataclass, field
 
 from trcopt.codes import Code
+from trcopt.controllers.siemens.branch import CALL_LINE, call_text, parse_case
 from trcopt.controllers.siemens.flow import _FOR, _SECTION, Program, Statement, scan
 from trcopt.controllers.siemens.lexer import Word
 from trcopt.controllers.siemens.variables import DEF_LINE, Variable, Variables, _split, _store
@@ -176,7 +177,13 @@ class ProgramRunner:
         elif kind == "section":
             self._section(level, st, span)
         elif kind == "call":
-            self._call(level, st, span)
+            self._call(level, st, span, st.rest)
+        elif kind == "indirect":
+            m = CALL_LINE.match(st.rest)
+            assert m is not None
+            self._call(level, st, span, call_text(m.group("kw"), m.group("rest"), span))
+        elif kind == "case":
+            self._case(level, st, span)
         elif kind == "mcall":
             self._mcall(st, span)  # type: ignore[attr-defined]
         return False
@@ -240,6 +247,17 @@ class ProgramRunner:
                 raise fail(Code.NC_SYNTAX, "IF without a condition", span)
             if self.variables.evaluate(cond, span, st.rest_column) == 0.0:
                 return
+        self._goto(level, st, kw, target, span)
+
+    def _case(self, level: Level, st: Statement, span: SourceSpan) -> None:
+        """CASE: the first constant equal to the expression jumps, else DEFAULT, else the next block."""
+        branch = parse_case(st.rest, st.rest_column, span)
+        value = self.variables.evaluate(branch.expression, span, branch.column)
+        chosen = next(((kw, t, c) for const, kw, t, c in branch.choices if const == value), branch.default)
+        if chosen is not None:
+            self._goto(level, st, chosen[0], chosen[1], st.span(self.file, chosen[2]))
+
+    def _goto(self, level: Level, st: Statement, kw: str, target: str, span: SourceSpan) -> None:
         program = level.program
         if kw == "GOTOF":
             dest = self._find(program, target, st.index, "F")
@@ -292,11 +310,12 @@ class ProgramRunner:
         level.pc = start
 
     # ------------------------------------------------------------------ subprograms
-    def _call(self, level: Level, st: Statement, span: SourceSpan) -> None:
+    def _call(self, level: Level, st: Statement, span: SourceSpan, text: str) -> None:
         from trcopt.controllers.siemens.flow import _CALL
 
-        m = _CALL.match(st.rest)
-        assert m is not None
+        m = _CALL.match(text)
+        if m is None:
+            raise fail(Code.NC_SYNTAX, f"subprogram call {text!r}: expected NAME[(arguments)] [P=n]", span)
         name = m.group("name").upper()
         repeats = 1
         if m.group("p") is not None:
