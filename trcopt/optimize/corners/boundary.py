@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -197,6 +198,7 @@ def _meet(boxes: np.ndarray, box: np.ndarray, pad: float) -> np.ndarray:
     )[0]
 
 
+EARLY_PROBES = 16  # probes measured exactly before the finer bounds of the others
 CHUNK_ELEMENTS = 48  # exact elements measured together (bounds the probes and centres held at once)
 
 
@@ -272,7 +274,9 @@ def _left_over(
     if not len(centres):
         return 1.0, probes[0]
     where = None
-    tree = cKDTree(centres)
+    # centres are dense samples along a path: an unbalanced tree of larger leaves answers the
+    # nearest-neighbour queries of probes a radius away 2–3× faster than the default one
+    tree = cKDTree(centres, leafsize=32, balanced_tree=False, compact_nodes=False)
     k0 = min(8, len(centres))
     d0, i0 = tree.query(probes, k=k0)
     d0, i0 = np.asarray(d0).reshape(len(probes), k0), np.asarray(i0).reshape(len(probes), k0)
@@ -286,7 +290,17 @@ def _left_over(
     # order of the bound, until no bound exceeds the largest exact value found
     floor = max(best, float((d0[open_, 0] - R).max()))
     rough = material_left(probes[open_], dirs[open_], centres[i0[open_]], R)
-    open_ = open_[rough > floor]
+    keep = rough > floor
+    open_, rough = open_[keep], rough[keep]
+    # the exact value at the few probes of the largest bounds first: a good lower bound of the
+    # maximum prunes most of the others before their finer bounds are computed
+    for j in np.argsort(-rough)[:EARLY_PROBES]:
+        if rough[j] <= best:
+            break
+        val = _exact_left(tree, probes, dirs, centres, R, int(open_[j]))
+        if val > best:
+            best, where = val, probes[open_[j]]
+    open_ = open_[rough > best]
     k = min(NEAREST_CENTRES, len(centres))
     bound = np.empty(len(open_))
     for lo in range(0, len(open_), 2048):
@@ -298,11 +312,15 @@ def _left_over(
         if bound[j] <= best:
             break
         i = open_[j]
-        idx = tree.query_ball_point(probes[i], R + 1.0)
-        if not idx:
-            val = 1.0
-        else:
-            val = float(material_left(probes[i : i + 1], dirs[i : i + 1], centres[idx], R)[0])
+        val = _exact_left(tree, probes, dirs, centres, R, int(i))
         if val > best:
             best, where = val, probes[i]
     return best, where
+
+
+def _exact_left(tree: Any, probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, R: float, i: int) -> float:
+    """The material left at probe ``i`` by every disc around ``centres`` within R + 1 mm of it."""
+    idx = tree.query_ball_point(probes[i], R + 1.0)
+    if not idx:
+        return 1.0
+    return float(material_left(probes[i : i + 1], dirs[i : i + 1], centres[idx], R)[0])

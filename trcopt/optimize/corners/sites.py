@@ -12,9 +12,9 @@ what constrains it there.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
 
@@ -56,9 +56,10 @@ class CornerSite:
         Longest plane arc length the transition may take from ``a`` (before J) and ``b`` (after J), mm.
     programmed:
         Programmed contour elements near the corner (no-gouge and deviation reference).
-    probes, probe_dirs:
-        Points of the exact cut boundary near the corner (n×2, mm) and unit directions away from
-        the material (n×2): the deviation is the material left along these rays.
+    probe_source:
+        Computes the points of the exact cut boundary near the corner (n×2, mm) and unit directions
+        away from the material (n×2), :attr:`probes` and :attr:`probe_dirs`: the deviation is the
+        material left along these rays (a picklable callable, evaluated once when first needed).
     w:
         Applicate of the plane the corner lies in, mm.
     context:
@@ -78,11 +79,25 @@ class CornerSite:
     avail_a: float
     avail_b: float
     programmed: tuple[Element, ...]
-    probes: np.ndarray
-    probe_dirs: np.ndarray
+    probe_source: Callable[[], tuple[np.ndarray, np.ndarray]]
     w: float = 0.0
     context: tuple[Element, ...] = ()
     min_cut: float = 0.0
+
+    @cached_property
+    def _probe_pair(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.probe_source()
+
+    @property
+    def probes(self) -> np.ndarray:
+        """Points of the exact cut boundary near the corner (n×2, mm), computed when first needed
+        (a corner on a run spline never needs them)."""
+        return self._probe_pair[0]
+
+    @property
+    def probe_dirs(self) -> np.ndarray:
+        """Unit directions away from the material at :attr:`probes` (n×2)."""
+        return self._probe_pair[1]
 
     def material_left(self, curve: np.ndarray, sa: float, sb: float, eps: float) -> np.ndarray:
         """Material left (mm) at every probe for a transition sampled by ``curve`` (k×2) that
@@ -270,10 +285,10 @@ def find_corner_sites(
             span = min(span, 4.0 * t_arc + 2.0 * R)
         if circle:
             span = min(span, min_cut + near)
-        probes, dirs = boundary_probes(ex, list(prog), R, sign, step, near=J, reach=span + 1.05 * R)
+        probes = partial(boundary_probes, ex, list(prog), R, sign, step, near=J, reach=span + 1.05 * R)
         replaced = {id(toolpath[i].geometry) for i in range(first, last + 1)}
         context = tuple(e for e in ex if id(e) not in replaced)
-        site = CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, dirs, ga.end[2], context, min_cut)
+        site = CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, ga.end[2], context, min_cut)
         sites.append((k, site))
     return sites
 
