@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 from trcopt.config import DEFAULT_MACHINE
+from trcopt.errors import TimingError
 from trcopt.geometry import Arc
 from trcopt.modes import TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
@@ -39,8 +40,13 @@ def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> Corn
     m = job.machine or DEFAULT_MACHINE
     segs, eps_of, solved = plan.segments, plan.eps, plan.solved
     arc = arc_transitions(CornerJob("arc", segs, job.programmed, job.tolerance_mm))
-    t_opt = time_parameterize(optimal.segments, m).duration
     t_arc = time_parameterize(arc.segments, m).duration
+    why_arc = "circular blends everywhere are faster than the G2 transitions (timed)"
+    try:
+        t_opt = time_parameterize(optimal.segments, m).duration
+    except TimingError as exc:  # a G2 plan the timing stage cannot parameterise is not chosen
+        t_opt = math.inf
+        why_arc = f"the G2 plan could not be timed ({exc.message}): circular blends"
     best, t_best = (optimal, t_opt) if t_opt <= t_arc else (arc, t_arc)
     a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
     single = plan.single
@@ -71,7 +77,7 @@ def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> Corn
             replace(
                 c,
                 solution=solved.get((c.index, eps_of[c.index])),
-                reason=c.reason or "circular blends everywhere are faster than the G2 transitions (timed)",
+                reason=c.reason or why_arc,
             )
             if c.index in every and c.index in eps_of
             else c
