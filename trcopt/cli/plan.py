@@ -182,7 +182,8 @@ def _plan_with_progress(args: argparse.Namespace, opts: PlanOptions) -> PlanResu
     from trcopt.pipeline import plan_file
     from trcopt.progress import reporting, stage, terminal_reporter
 
-    with reporting(terminal_reporter(quiet=getattr(args, "quiet", False))), stage(f"planning {Path(args.program).name}"):
+    reporter = terminal_reporter(quiet=getattr(args, "quiet", False))
+    with reporting(reporter), stage(f"planning {Path(args.program).name}"):
         return plan_file(args.program, opts)
 
 

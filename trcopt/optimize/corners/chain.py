@@ -6,9 +6,14 @@ curvature where it meets a line, so it can use at most half a chord; around an o
 must also stay outside the circle of radius R (no gouge), and is then no flatter than that circle.
 Treating the whole run at once removes both limits: one cubic B-spline (C2, so G2) from a point on
 the element before the run to a point on the element after it, free to leave the exact path by up
-to ε on the free side between the vertices, follows the curve the chords approximate.
+to ε on the free side between the vertices, follows the curve the chords approximate. On a
+compensated contour the run continues through the short transition arcs of small sweep at the
+outside vertices (tangent joints): the spline replaces them with the chords around them, so a
+convex stretch of CAM chords is no longer bound to circles of radius R.
 
-The spline is found by sequential convex programming, one OSQP QP per step:
+The spline is found by sequential convex programming, one QP per step (Clarabel, interior point:
+:func:`trcopt.optimize.convex.solve_qp`; the rows are built for all samples at once through a k-d
+tree of the samples, :mod:`.chain_geometry`, on the sparse B-spline bases of :mod:`.chain_spline`):
 
 * objective: ∫|C″(s)|² ds over the reference arc length s of the exact path (the curvature, as
   the parametrisation stays close to unit speed);
@@ -16,13 +21,18 @@ The spline is found by sequential convex programming, one OSQP QP per step:
   (G2 joins);
 * no gouge: at every sample, for every programmed element within reach, the supporting half-plane
   of the disc-swept element at the current foot point, ``n·C ≥ n·f + R`` (conservative: the set of
-  points within R of a line or a point is convex);
+  points within R of a line or a point is convex), plus a sag margin for the curve between samples
+  (from the current spline's curvature); where the exact path itself comes closer than R (a
+  controller's near-tangent joint, R·(1 − cos turn) at most), as close as the exact path is there;
 * tolerance: at every sample the distance beyond the exact tool-centre path on the side away from
   the material is ≤ ε′ (linearised at the current foot point), ε′ = ε·cos(θmax/2)·(1 − margin):
   the material left at a vertex of deflection θ is the offset over cos(θ/2).
 
-Steps (each with a small proximal term) repeat until the spline moves < 1 µm across itself (at most
-MAX_STEPS); the result is accepted only if the dense-sampled clearance ≥ R and offset ≤ ε hold; the
+Steps (each with a small proximal term and a penalty on sliding along the curve) repeat until the
+spline moves < 1 µm across itself, or < 5 µm with ∫κ² settled (at most MAX_STEPS); the knot spacing
+is at most a third of the length over which the sharpest corner of the run turns within ε. The
+result is accepted only if the dense-sampled clearance (≥ R, or the exact path's own) and offset
+≤ ε hold; the
 caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.boundary.cut_deviation`)
 and tightens ε′ if it exceeds ε.
 
@@ -42,7 +52,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
