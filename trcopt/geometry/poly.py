@@ -93,7 +93,7 @@ class Poly:
         return self.derivatives_at(s, 0)
 
     def derivatives_at(self, s: Any, order: int = 1) -> Any:
-        """Position (``order`` 0) or first derivative (``order`` 1) at the arc lengths ``s`` (a
+        """Position (``order`` 0), first (1) or second derivative (2) at the arc lengths ``s`` (a
         numpy array, mm), n×3, as :meth:`derivatives` computes them, for all of them at once."""
         import numpy as np
 
@@ -111,14 +111,16 @@ class Poly:
             basis = quintic_hermite_basis(t)[order]
             rows = (p0, hc * m0, hc * hc * K[i], hc * hc * K[i + 1], hc * m1, p1)
             out = sum(w[:, None] * r for w, r in zip(basis, rows, strict=True))
-            return out if order == 0 else out / hh[:, None]
+            return out / (hh**order)[:, None]
         t2, t3 = t * t, t * t * t
         if order == 0:
             h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
-        else:
+        elif order == 1:
             h00, h10, h01, h11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
+        else:
+            h00, h10, h01, h11 = 12 * t - 6, 6 * t - 4, -12 * t + 6, 6 * t - 2
         out = h00[:, None] * p0 + (h10[:, None] * hc) * m0 + h01[:, None] * p1 + (h11[:, None] * hc) * m1
-        return out if order == 0 else out / hh[:, None]
+        return out / (hh**order)[:, None]
 
     def derivatives(self, s: float) -> tuple[Vec3, Vec3, Vec3]:
         """Position, first and second derivative in arc length: cubic Hermite interpolation between

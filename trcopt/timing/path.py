@@ -97,10 +97,8 @@ class SegmentEval:
                 out[:, 2] = 0.0
             return out
         g = self.segment.geometry
-        out = np.empty((n, 3))
-        for i, si in enumerate(s):
-            out[i] = g.derivatives(float(si))[order]
-        return out
+        assert isinstance(g, Poly)
+        return np.asarray(g.derivatives_at(s, order), dtype=float).reshape(n, 3)
 
     def eval(self, s: np.ndarray | float, order: int = 0) -> np.ndarray:
         """Position (order 0), dp/ds (1) or d²p/ds² (2) at local arc lengths ``s`` (mm), in xyz."""
