@@ -50,7 +50,7 @@ ALLOWED: dict[str, set[str]] = {
     "__main__": {"cli"},
     "__init__": BASE | {"config", "path"},
 }
-HEAVY = ("numpy", "scipy", "casadi", "toppra", "osqp", "matplotlib", "ezdxf")
+HEAVY = ("numpy", "scipy", "casadi", "toppra", "clarabel", "matplotlib", "ezdxf")
 
 
 def _module_name(path: Path) -> str:

@@ -21,7 +21,8 @@ from trcopt.geometry import vec
 from trcopt.geometry.vec import Vec2, Vec3
 
 __all__ = [
-    "MAX_CURVE_SAMPLES", "SamplingError", "Poly", "hermite_curve", "conic_curve", "spiral_curve", "parametric_curve",
+    "MAX_CURVE_SAMPLES", "SamplingError", "Poly", "hermite_at", "hermite_curve", "hermite_pieces", "conic_curve",
+    "spiral_curve", "parametric_curve",
 ]
 
 CHORD_TOL_MM = 1e-3
@@ -95,32 +96,17 @@ class Poly:
     def derivatives_at(self, s: Any, order: int = 1) -> Any:
         """Position (``order`` 0), first (1) or second derivative (2) at the arc lengths ``s`` (a
         numpy array, mm), n×3, as :meth:`derivatives` computes them, for all of them at once."""
+        return hermite_at(self.arrays(), s, order)
+
+    def arrays(self) -> tuple[Any, Any, Any, Any]:
+        """``(cum, points, tangents, curvatures or None)`` as numpy arrays (for :func:`hermite_at`;
+        a caller evaluating the curve many times keeps them)."""
         import numpy as np
 
-        cum = np.asarray(self.cum)
-        s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
-        i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, cum.shape[0] - 2)
-        h = cum[i + 1] - cum[i]
-        hh = np.where(h > 0, h, 1.0)
-        t = np.where(h > 0, (s - cum[i]) / hh, 0.0)
-        P, M = np.asarray(self.points), np.asarray(self.tangents)
-        p0, p1, m0, m1 = P[i], P[i + 1], M[i], M[i + 1]
-        hc = h[:, None]
-        if self.curvatures is not None:
-            K = np.asarray(self.curvatures)
-            basis = quintic_hermite_basis(t)[order]
-            rows = (p0, hc * m0, hc * hc * K[i], hc * hc * K[i + 1], hc * m1, p1)
-            out = sum(w[:, None] * r for w, r in zip(basis, rows, strict=True))
-            return out / (hh**order)[:, None]
-        t2, t3 = t * t, t * t * t
-        if order == 0:
-            h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
-        elif order == 1:
-            h00, h10, h01, h11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
-        else:
-            h00, h10, h01, h11 = 12 * t - 6, 6 * t - 4, -12 * t + 6, 6 * t - 2
-        out = h00[:, None] * p0 + (h10[:, None] * hc) * m0 + h01[:, None] * p1 + (h11[:, None] * hc) * m1
-        return out / (hh**order)[:, None]
+        K = None if self.curvatures is None else np.asarray(self.curvatures, dtype=float)
+        return np.asarray(self.cum, dtype=float), np.asarray(self.points, dtype=float), np.asarray(
+            self.tangents, dtype=float
+        ), K
 
     def derivatives(self, s: float) -> tuple[Vec3, Vec3, Vec3]:
         """Position, first and second derivative in arc length: cubic Hermite interpolation between
@@ -241,6 +227,45 @@ def _unit3(a: Vec3) -> Vec3:
     n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     return (a[0] / n, a[1] / n, a[2] / n) if n > 0 else (0.0, 0.0, 0.0)
 
+
+
+def hermite_at(arrays: tuple[Any, Any, Any, Any], s: Any, order: int = 1) -> Any:
+    """Position (``order`` 0), first (1) or second derivative (2), n×3, at the arc lengths ``s`` of
+    the curve given by :meth:`Poly.arrays` (``cum``, ``points``, ``tangents``, ``curvatures``):
+    the quintic Hermite interpolation when the curvatures are known, else the cubic one."""
+    import numpy as np
+
+    cum = arrays[0]
+    s = np.clip(np.asarray(s, dtype=float), 0.0, cum[-1])
+    i = np.clip(np.searchsorted(cum, s, side="right") - 1, 0, cum.shape[0] - 2)
+    return hermite_pieces(arrays, i, s, order)
+
+
+def hermite_pieces(arrays: tuple[Any, Any, Any, Any], i: Any, s: Any, order: int = 1) -> Any:
+    """:func:`hermite_at` with the sample interval ``i`` of every arc length ``s`` given (several
+    curves concatenated into one set of arrays are evaluated together this way)."""
+    import numpy as np
+
+    cum, P, M, K = arrays
+    h = cum[i + 1] - cum[i]
+    hh = np.where(h > 0, h, 1.0)
+    t = np.where(h > 0, (s - cum[i]) / hh, 0.0)
+    p0, p1, m0, m1 = P[i], P[i + 1], M[i], M[i + 1]
+    hc = h[:, None]
+    if K is not None:
+        basis = quintic_hermite_basis(t)[order]
+        rows = (p0, hc * m0, hc * hc * K[i], hc * hc * K[i + 1], hc * m1, p1)
+        out = sum(w[:, None] * r for w, r in zip(basis, rows, strict=True))
+        return out / (hh**order)[:, None]
+    t2, t3 = t * t, t * t * t
+    if order == 0:
+        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+    elif order == 1:
+        h00, h10, h01, h11 = 6 * t2 - 6 * t, 3 * t2 - 4 * t + 1, -6 * t2 + 6 * t, 3 * t2 - 2 * t
+    else:
+        h00, h10, h01, h11 = 12 * t - 6, 6 * t - 4, -12 * t + 6, 6 * t - 2
+    out = h00[:, None] * p0 + (h10[:, None] * hc) * m0 + h01[:, None] * p1 + (h11[:, None] * hc) * m1
+    return out / (hh**order)[:, None]
 
 def _sample(
     f: Callable[[float], Vec3],

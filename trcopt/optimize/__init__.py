@@ -7,6 +7,6 @@
 
 Every problem is an object that can be inspected before it is solved and returns a
 :class:`~trcopt.solution.Solution`. The constraint model they share lives in :mod:`trcopt.verify`.
-CasADi and OSQP are imported inside the functions that build problems; importing this package —
+CasADi and Clarabel are imported inside the functions that build problems; importing this package —
 or the corner-strategy registry — loads no numerical library.
 """

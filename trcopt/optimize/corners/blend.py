@@ -56,7 +56,7 @@ def blend_corners(
         ``jerk`` objective (the default machine when omitted).
     mode:
         The corner strategy's registry name (:func:`trcopt.optimize.corners.strategies.names`):
-        ``"optimal"`` (G2 quintics by SQP/OSQP), ``"arc"`` (largest same-ε circular blends, G1),
+        ``"optimal"`` (G2 quintics by SQP), ``"arc"`` (largest same-ε circular blends, G1),
         ``"exact"`` (unchanged), or one registered at run time.
     workers:
         Processes for the per-corner problems (independent; ``1`` solves in this process).

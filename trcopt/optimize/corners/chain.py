@@ -88,7 +88,7 @@ KNOT_MIN_JUMP_PER_MM = 1e-3  # smaller curvature jumps (radius ≥ 1 m next to a
 # a curvature-jump spline takes up to this many knot_length on each side (1, 2, 3 and 5 measured
 # under jerk limits on the gear, star and obround programs: 3 is fastest)
 KNOT_SIDE_LENGTHS = 3.0
-SLIDE = 1e-2  # weight of sliding along the curve in a step, relative to the mean curvature-Hessian diagonal
+SLIDE = 1e-3  # weight of sliding along the curve in a step, relative to the mean curvature-Hessian diagonal
 
 
 @dataclass(frozen=True)

@@ -67,7 +67,8 @@ _GL5_X, _GL5_W = np.polynomial.legendre.leggauss(5)
 
 def piece(pp: tuple[np.ndarray, np.ndarray, np.ndarray], a: float, b: float, w: float) -> Poly:
     """The spline between its parameters ``a`` and ``b`` as a curvature-continuous Poly: samples
-    spaced for a chord error ≤ CHORD_TOL_MM / 2 at the piece's largest curvature (at least 8),
+    spaced for a chord error ≤ CHORD_TOL_MM / 2 at the piece's largest curvature (at least 8) and
+    at every knot and knot-span middle,
     true arc length by 5-point Gauss–Legendre per interval (``pp``: breakpoints and per-interval
     cubic coefficients of x(s) and y(s), highest power first)."""
 
@@ -89,7 +90,15 @@ def piece(pp: tuple[np.ndarray, np.ndarray, np.ndarray], a: float, b: float, w: 
     n2 = np.einsum("ij,ij->i", d1, d1)
     kmax = float(np.max(np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(n2, 1e-300) ** 1.5))
     k = max(8, int(math.ceil(L * math.sqrt(kmax / (4.0 * CHORD_TOL_MM)))))
-    s = np.linspace(a, b, k + 1)
+    # and every knot of the spline with two points per knot span: the Poly's quintic Hermite pieces
+    # then follow the spline's cubic pieces closely, curvature included
+    brk = pp[0]
+    inner = brk[(brk > a) & (brk < b)]
+    spans = np.concatenate(([a], inner, [b]))
+    s = np.unique(np.concatenate((np.linspace(a, b, k + 1), spans, 0.5 * (spans[1:] + spans[:-1]))))
+    # no two samples closer than 1 nm (a knot next to an end would give an empty Hermite piece)
+    s = s[np.concatenate(([True], np.diff(s) > 1e-6 * max(L, 1e-3)))]
+    s[-1] = b
     P, d1, d2 = ev(s, 0), ev(s, 1), ev(s, 2)
     n2 = np.maximum(np.einsum("ij,ij->i", d1, d1), 1e-300)
     tan = d1 / np.sqrt(n2)[:, None]
