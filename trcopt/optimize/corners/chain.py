@@ -61,12 +61,13 @@ from trcopt.optimize.convex import solve_qp
 from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
 from trcopt.optimize.corners.chain_spline import basis, piece, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
+from trcopt.verify.model import bbox
 from trcopt.verify.nearest import ElementSet
 
 if TYPE_CHECKING:
     pass
 
-__all__ = ["ChainSite", "ChainSolution", "find_chains", "knot_site", "knot_length", "solve_chain"]
+__all__ = ["ChainSite", "ChainSolution", "PartContour", "find_chains", "knot_site", "knot_length", "solve_chain"]
 
 CHAIN_MAX_TURN_DEG = 20.0  # joints of larger deflection keep per-corner transitions
 CHAIN_MAX_CHORD_MM = 5.0  # longest element inside a run
@@ -131,7 +132,7 @@ class ChainSolution:
 
 
 def find_chains(
-    toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc]
+    toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc] | PartContour
 ) -> list[ChainSite]:
     """Maximal runs of ≥ CHAIN_MIN_CORNERS consecutive joints (of ``joints``, sorted) of deflection
     ≤ CHAIN_MAX_TURN_DEG joined by lines ≤ CHAIN_MAX_CHORD_MM, split into runs of at most
@@ -162,7 +163,8 @@ def find_chains(
         parts = -(-len(run) // CHAIN_MAX_CORNERS)
         size = -(-len(run) // parts)
         pieces += [run[i : i + size] for i in range(0, len(run), size)]
-    return [_run_site(toolpath, run, all_joints, contour, CHAIN_END_MM) for run in pieces]
+    part = _as_part(contour)
+    return [_run_site(toolpath, run, all_joints, part, CHAIN_END_MM) for run in pieces]
 
 
 def _chord(toolpath: Sequence, i: int) -> bool:
@@ -197,7 +199,11 @@ def knot_length(curvature_change: float, eps: float) -> float:
 
 
 def knot_site(
-    toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc], eps: float
+    toolpath: Sequence,
+    joints: Sequence[int],
+    all_joints: set[int],
+    contour: Sequence[Line | Arc] | PartContour,
+    eps: float,
 ) -> ChainSite:
     """The curvature jumps at the consecutive tangent-continuous ``joints`` (a line↔arc joint,
     arcs of different curvature, or both joints of a G450 transition circle) as one run: the
@@ -209,7 +215,8 @@ def knot_site(
 
 
 def _run_site(
-    toolpath: Sequence, run: list[int], all_joints: set[int], contour: Sequence[Line | Arc], end_mm: float
+    toolpath: Sequence, run: list[int], all_joints: set[int], contour: Sequence[Line | Arc] | PartContour,
+    end_mm: float,
 ) -> ChainSite:
     """The spline site across the joints ``run``: up to ``end_mm`` of each end element."""
     first, last = run[0], run[-1] + 1
@@ -228,15 +235,29 @@ def _run_site(
     seg0 = toolpath[first]
     P = np.array([e.point2(x) for e in full for x in (0.0, 0.5, 1.0)])
     lo, hi = P.min(axis=0) - 3 * seg0.radius, P.max(axis=0) + 3 * seg0.radius
-    prog = tuple(e for e in contour if _boxes_meet(e, lo, hi))
+    prog = _as_part(contour).within(lo, hi)
     sign = -1.0 if seg0.side.value == "left" else 1.0
     turn = max(abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) for k in run)
     return ChainSite(first, last, tuple(run), lam_a, lam_b, els, full, prog, seg0.radius, sign, ga.end[2], turn)
 
 
-def _boxes_meet(e: Line | Arc, lo: np.ndarray, hi: np.ndarray) -> bool:
-    pts = np.array([e.point2(x) for x in np.linspace(0.0, 1.0, 9)])
-    return bool(np.all(pts.max(axis=0) >= lo) and np.all(pts.min(axis=0) <= hi))
+class PartContour:
+    """The programmed part contour's plane elements with their bounding boxes (the elements near a
+    run are found by one comparison over the boxes, not element by element)."""
+
+    def __init__(self, elements: Sequence[Line | Arc]) -> None:
+        self.elements = list(elements)
+        self.boxes = np.array([bbox(e) for e in self.elements], float).reshape(-1, 4)
+
+    def within(self, lo: np.ndarray, hi: np.ndarray) -> tuple[Line | Arc, ...]:
+        """The elements whose boxes meet the box ``lo``–``hi``, in contour order."""
+        b = self.boxes
+        hit = (b[:, 2] >= lo[0]) & (b[:, 3] >= lo[1]) & (b[:, 0] <= hi[0]) & (b[:, 1] <= hi[1])
+        return tuple(self.elements[i] for i in np.nonzero(hit)[0])
+
+
+def _as_part(contour: Sequence[Line | Arc] | PartContour) -> PartContour:
+    return contour if isinstance(contour, PartContour) else PartContour(contour)
 
 
 def _end_frame(e: Line | Arc, at_end: bool) -> tuple[np.ndarray, np.ndarray, float]:

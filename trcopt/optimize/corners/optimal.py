@@ -21,7 +21,14 @@ from trcopt.geometry import Arc, Line
 from trcopt.modes import CornerObjective, TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, TransitionPlan, fit_tolerance, kept_jump
-from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, knot_site, solve_chain
+from trcopt.optimize.corners.chain import (
+    ChainSite,
+    ChainSolution,
+    PartContour,
+    find_chains,
+    knot_site,
+    solve_chain,
+)
 from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
@@ -155,9 +162,9 @@ def _solve_chains(
     owned = {k for k, _ in sites} | {k + 1 for k, site in sites if site.min_cut > 0.0}
     jumps = curvature_jump_joints(segs, owned) if knots else []
     owned |= set(jumps)
-    contour = [
-        p.geometry for p in part_contour(programmed, segs) if isinstance(p.geometry, Line | Arc) and not p.is_rapid
-    ]
+    contour = PartContour(
+        [p.geometry for p in part_contour(programmed, segs) if isinstance(p.geometry, Line | Arc) and not p.is_rapid]
+    )
     eps = (1.0 - TARGET_MARGIN) * tolerance_mm
     out, kept = [], []
     found = find_chains(segs, plain, owned, contour) if runs else []
