@@ -32,6 +32,7 @@ __all__ = [
     "reversal_residual",
     "element_distance",
     "line_pair_distances",
+    "point_distance",
     "points_distance",
     "points_foot",
     "bbox",
@@ -173,7 +174,7 @@ def points_distance(el: Element, pts: np.ndarray) -> np.ndarray:
     return best
 
 
-def _point_distance(el: Line | Arc, p: Vec2) -> float:
+def point_distance(el: Line | Arc, p: Vec2) -> float:
     """Scalar fast path of :func:`points_distance` for one point and a line or arc."""
     if isinstance(el, Line):
         ax, ay = el.start[0], el.start[1]
@@ -223,9 +224,9 @@ def _pair_distance(a: Line | Arc, b: Line | Arc) -> tuple[float, Vec2]:
         return 0.0, hits[0].point
     cands: list[tuple[float, Vec2]] = []
     for p in (a.point2(0.0), a.point2(1.0)):
-        cands.append((_point_distance(b, p), p))
+        cands.append((point_distance(b, p), p))
     for q in (b.point2(0.0), b.point2(1.0)):
-        cands.append((_point_distance(a, q), q))  # the point of a is within d of q; keep q as a locator
+        cands.append((point_distance(a, q), q))  # the point of a is within d of q; keep q as a locator
     # interior-interior critical points (common normals)
     if isinstance(a, Arc) and isinstance(b, Arc):
         u = np.array(b.center) - np.array(a.center)

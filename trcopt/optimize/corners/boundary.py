@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 
 from trcopt.geometry import Arc, Line
+from trcopt.optimize.corners.chain_geometry import Elements
 from trcopt.path import Role, Segment
-from trcopt.verify.model import points_distance
 
 __all__ = [
     "NEAREST_CENTRES",
@@ -128,8 +128,13 @@ def boundary_probes(
     if near is not None:
         keep = np.hypot(*(P - near[None, :]).T) <= reach
         P, D = P[keep], D[keep]
-    dmin = np.min([points_distance(el, P) for el in [*exact, *(others or ())]], axis=0)
-    keep = np.abs(dmin - radius) <= 1e-7 * max(radius, 1.0)
+    # the distance to the exact path: only elements within R (+ the tolerance) of a candidate matter
+    tol = 1e-7 * max(radius, 1.0)
+    path = Elements([*exact, *(others or ())])
+    m, e = path.near(P, radius + tol)
+    dmin = np.full(len(P), np.inf)
+    np.minimum.at(dmin, m, path.feet(e, P[m]).dist)
+    keep = np.abs(dmin - radius) <= tol
     return P[keep], D[keep]
 
 

@@ -25,7 +25,7 @@ from trcopt.optimize.corners.curves import Element, frame_back, frame_forward, j
 from trcopt.path import Role, Segment
 from trcopt.verify.contour import part_contour
 from trcopt.verify.index import BoxGrid
-from trcopt.verify.model import bbox, points_distance
+from trcopt.verify.model import bbox, point_distance, points_distance
 from trcopt.verify.nearest import ElementSet
 
 __all__ = [
@@ -263,7 +263,8 @@ def find_corner_sites(
         J = np.array(a.point2(1.0))
         reach = max(avail_a, avail_b) + 3.0 * R
         candidates = grids.near(seg0.plane, (J[0], J[1], J[0], J[1]), reach + R)
-        prog = tuple(g for g in candidates if points_distance(g, J[None, :])[0] <= reach + R)
+        jp = (float(J[0]), float(J[1]))
+        prog = tuple(g for g in candidates if point_distance(g, jp) <= reach + R)  # type: ignore[arg-type]
         # exact neighbourhood: previous, the replaced elements, next (when joined)
         ex: list[Line | Arc] = []
         prev = toolpath[first - 1] if first >= 1 else None
