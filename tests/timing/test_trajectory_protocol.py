@@ -61,3 +61,26 @@ def test_both_return_the_shared_value_types(both):
 def test_an_empty_path_is_a_trajectory():
     empty = time_parameterize([], ISO)
     assert isinstance(empty, Trajectory) and empty.duration == 0.0 and empty.check_limits().ok
+
+
+def test_limit_checks_in_chunks_equal_the_checks_at_once(monkeypatch) -> None:
+    # issue 19: the limit check and the jerk estimate sample in bounded chunks; the maxima are
+    # those of all samples at once, bit for bit
+    import trcopt.timing.checks as checks_module
+    from trcopt.errors import SourceSpan
+    from trcopt.geometry import Line, Plane
+    from trcopt.path import Role, Segment
+    from trcopt.timing import time_parameterize
+
+    pts = [(0.0, 0.0), (30.0, 0.0), (30.0, 20.0), (5.0, 25.0), (0.0, 0.0)]
+    path = [
+        Segment(Line((*a, 0.0), (*b, 0.0)), Plane.G17, Role.CONTOUR, SourceSpan("p", k + 1, 1), 50.0)
+        for k, (a, b) in enumerate(zip(pts, pts[1:], strict=False))
+    ]
+    whole = time_parameterize(path)
+    rep, jerk = whole.check_limits(1e-3), checks_module.max_jerk(whole)
+    monkeypatch.setattr(checks_module, "SAMPLE_CHUNK", 37)
+    monkeypatch.setattr(checks_module.sample_chunks, "__defaults__", (37, 0))
+    chunked = time_parameterize(path)
+    assert chunked.check_limits(1e-3) == rep
+    assert np.array_equal(checks_module.max_jerk(chunked), jerk)

@@ -10,18 +10,23 @@ ratios to the machine's vector limits (``machine.path``) added.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from trcopt.codes import Code
 from trcopt.config import PathLimits
+from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.trajectory import LimitReport, Samples, Trajectory
 
 __all__ = [
     "MAX_SAMPLES",
+    "SAMPLE_CHUNK",
+    "sample_times",
+    "sample_chunks",
     "check_step",
     "max_jerk",
     "path_deviation",
@@ -39,6 +44,42 @@ DEVIATION_PROBES = 64  # states compared with the exact geometry; spread evenly 
 MAX_SAMPLES = 3_600_000
 
 
+def sample_times(duration: float, dt: float) -> np.ndarray:
+    """Times every ``dt`` seconds from 0 to ``duration``, both included, s.
+
+    Raises
+    ------
+    TimingError
+        ``duration`` is not finite, or it needs more than :data:`MAX_SAMPLES` samples at ``dt``.
+    """
+    if dt <= 0:
+        raise ValueError("dt must be positive (s)")
+    if not np.isfinite(duration) or duration / dt + 1 > MAX_SAMPLES:
+        raise TimingError(
+            f"a cycle of {duration:.6g} s sampled every {dt:g} s needs more than {MAX_SAMPLES} samples "
+            "(trcopt.timing.trajectory.MAX_SAMPLES)",
+            code=Code.TIMING,
+        )
+    n = int(np.floor(duration / dt)) + 1
+    ts = np.arange(n) * dt
+    if ts[-1] < duration:
+        ts = np.append(ts, duration)
+    return ts
+
+
+SAMPLE_CHUNK = 1 << 18  # samples evaluated at once by the limit checks (bounded memory)
+
+
+def sample_chunks(duration: float, dt: float, chunk: int = SAMPLE_CHUNK, overlap: int = 0) -> Iterator[np.ndarray]:
+    """:func:`sample_times` in consecutive pieces of at most ``chunk`` times (each piece repeating
+    the last ``overlap`` times of the one before): the same times, without holding every sample's
+    state at once."""
+    ts = sample_times(duration, dt)
+    step = max(chunk - overlap, 1)
+    for a in range(0, max(ts.shape[0] - overlap, 1), step):
+        yield ts[a : a + chunk]
+
+
 def check_step(duration_s: float, dt_s: float) -> float:
     """The sampling step of a limit check of a ``duration_s`` cycle: ``dt_s``, or coarser for a
     cycle so long that ``dt_s`` would need more than :data:`MAX_SAMPLES` samples (every grid point
@@ -54,8 +95,14 @@ def max_jerk(traj: Trajectory, dt: float = 1e-3) -> np.ndarray:
     """
     if not traj.segments or traj.duration <= dt:
         return np.zeros(3)
-    smp = traj.sample(check_step(traj.duration, dt))
-    return (np.abs(np.diff(smp.a, axis=0)) / np.diff(smp.t)[:, None]).max(axis=0)
+    # consecutive pieces overlapping by one sample: every difference of the whole sampling once
+    out = None
+    for ts in sample_chunks(traj.duration, check_step(traj.duration, dt), overlap=1):
+        smp = traj.evaluate(ts)
+        part = (np.abs(np.diff(smp.a, axis=0)) / np.diff(smp.t)[:, None]).max(axis=0)
+        out = part if out is None else np.maximum(out, part)
+    assert out is not None
+    return out
 
 
 def path_deviation(segments: Sequence[Segment], starts: np.ndarray, states: Samples) -> float:

@@ -11,8 +11,10 @@ interval (the direction of an arc's tangent and normal). Both are controlled her
   arc's centripetal acceleration matters (``F² > ½·a_min·ρ``) and ``Δθ ≤ DTHETA_FEED`` (0.1 rad)
   where the feed binds; the acceleration rows of an arc interval are tightened by ``cos(Δθ/2)``
   so the per-axis acceleration inside the interval stays below the limit as well;
-* **curves** (Poly): spacing ≤ ``POLY_CAP_MM`` and at most ``DTHETA_ACC`` of the curve's turning
-  per interval (measured between its samples), so a short transition's curvature peak is on the grid;
+* **curves** (Poly): spacing ≤ ``POLY_CAP_MM``, at most ``DTHETA_ACC`` of the curve's turning
+  and at most ``DKAPPA_REL`` relative change of its curvature per interval (measured at the grid
+  points, halving until it holds), so a short transition's curvature peak and the steep curvature
+  ramp of a G2 join into a circle are on the grid;
 * **lines** need no interior points in the own solver (the exact profile on a line is the min of
   two ramps and the cruise speed, reconstructed in closed form afterwards); for toppra they get
   the ramp-zone rule with a cap of ``LINE_CAP_MM``;
@@ -24,12 +26,12 @@ interval (the direction of an arc's tangent and normal). Both are controlled her
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from trcopt.modes import TimingEngine
-from trcopt.timing.path import SegmentEval
+from trcopt.timing.path import PathArrays, SegmentEval
 
 RAMP_POINTS = 16.0
 GROWTH = 0.25
@@ -37,9 +39,10 @@ DTHETA_ACC = 0.025
 DTHETA_FEED = 0.1
 LINE_CAP_MM = 5.0
 POLY_CAP_MM = 0.2
+DKAPPA_REL = 0.02  # largest relative change of a curve's curvature across one grid interval
 KNOT_EPS_MM = 1e-6
 
-__all__ = ["segment_grid", "KNOT_EPS_MM"]
+__all__ = ["segment_grid", "curve_grids", "DKAPPA_REL", "KNOT_EPS_MM"]
 
 
 def _graded(length: float, h0: float, zone: float, hmax: float) -> np.ndarray:
@@ -99,8 +102,38 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine
         hcap = length / n_min
         grid = _graded(length, min(h0, hcap), ramp, hcap)
         return grid, rate
-    # a curve turns where its curvature peaks: the same angle cap as on an arc where the
-    # centripetal acceleration matters, from the turning between the curve's own samples
+    grid = _curve_start_grid(ev, h0, ramp)
+    _, grid, turn, excess = _refined(lambda _k, x, order: ev.eval(x, order), np.zeros(len(grid), np.int64), grid)
+    return grid, _rates(grid, turn, excess)
+
+
+def curve_grids(
+    arrays: PathArrays, ks: Sequence[int], feeds: np.ndarray, amin: float
+) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """:func:`segment_grid` of the curves (Poly segments) ``ks`` of a path, refined together: one
+    evaluation of all their grid points per refinement round instead of one per curve."""
+    if not len(ks):
+        return {}
+    grids = []
+    for k in ks:
+        ev = arrays.evals[k]
+        ramp = float(feeds[k]) ** 2 / (2.0 * amin)
+        grids.append(_curve_start_grid(ev, min(ramp / RAMP_POINTS, ev.length / 4.0), ramp))
+    seg = np.repeat(np.asarray(ks, dtype=np.int64), [len(g) for g in grids])
+    seg, s, turn, excess = _refined(arrays.eval, seg, np.concatenate(grids))
+    cuts = np.nonzero(seg[1:] != seg[:-1])[0] + 1
+    out = {}
+    for a, b in zip(np.concatenate(([0], cuts)), np.concatenate((cuts, [len(s)])), strict=True):
+        grid = s[a:b]
+        out[int(seg[a])] = (grid, _rates(grid, turn[a : b - 1], excess[a : b - 1]))
+    return out
+
+
+def _curve_start_grid(ev: SegmentEval, h0: float, ramp: float) -> np.ndarray:
+    """A curve's grid before refinement: graded as a line's, at most POLY_CAP_MM and at most
+    DTHETA_ACC of turning between the curve's samples apart, and the samples themselves (the
+    curvature is exact there), off the ends."""
+    length = ev.length
     hcap = POLY_CAP_MM
     g = ev.segment.geometry
     tangents = np.asarray(getattr(g, "tangents", ()), dtype=float)
@@ -109,21 +142,54 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine
         turn = float(np.arccos(cosines).sum())
         hcap = min(hcap, length / max(1, math.ceil(turn / DTHETA_ACC)))
     grid = _graded(length, min(h0, hcap), ramp, hcap)
-    if hasattr(g, "derivatives_at"):
-        grid = _turn_refined(g, grid)
-    return grid, 0.0
+    if ev._poly is not None:
+        cum = ev._poly[0]
+        inner = cum[(cum > 10.0 * KNOT_EPS_MM) & (cum < length - 10.0 * KNOT_EPS_MM)]
+        grid = np.union1d(grid, inner)
+        grid = grid[np.concatenate(([True], np.diff(grid) > 1e-7))]
+        grid[-1] = length
+    return grid
 
 
-def _turn_refined(g: Any, grid: np.ndarray, rounds: int = 24) -> np.ndarray:
-    """``grid`` with intervals halved until the curve's tangent turns by at most ``DTHETA_ACC``
-    across each: the curvature of a sharp transition peaks within a few µm, where an even spacing
-    leaves whole radians between two grid points."""
-    for _ in range(rounds):
-        t = g.derivatives_at(grid, 1)
+def _rates(grid: np.ndarray, turn: np.ndarray, excess: np.ndarray) -> np.ndarray:
+    """Per interval, the tightening of the acceleration rows at its ends that keeps the limits
+    inside it, written as an arc's turning rate (the own solver tightens by cos(rate·Δ/2)): the
+    tangent turns by ``turn`` and the curvature exceeds its ends' by the factor ``excess`` inside."""
+    cos_eff = np.cos(0.5 * turn) / excess
+    return 2.0 * np.arccos(np.clip(cos_eff, -1.0, 1.0)) / np.maximum(np.diff(grid), 1e-300)
+
+
+Evaluate = Callable[[np.ndarray, np.ndarray, int], np.ndarray]
+
+
+def _refined(
+    evaluate: Evaluate, seg: np.ndarray, s: np.ndarray, rounds: int = 24
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The grid points ``(seg, s)`` (curve index and local arc length, sorted by curve then s) with
+    intervals halved until the curve's tangent turns by at most ``DTHETA_ACC`` across each (the
+    curvature of a sharp transition peaks within a few µm, where an even spacing leaves whole
+    radians between two grid points) and its curvature changes by at most ``DKAPPA_REL``; with, per
+    interval (between consecutive points, also across two curves: unused there), the turn (rad) and
+    the factor by which the curvature inside it may exceed the larger at its ends."""
+    for round_ in range(rounds + 1):
+        same = seg[1:] == seg[:-1]
+        t = evaluate(seg, s, 1)
         t /= np.maximum(np.linalg.norm(t, axis=1), 1e-300)[:, None]
         turn = np.arccos(np.clip(np.einsum("ij,ij->i", t[:-1], t[1:]), -1.0, 1.0))
-        split = np.nonzero((turn > DTHETA_ACC) & (np.diff(grid) > 1e-7))[0]
-        if split.shape[0] == 0:
+        k = np.linalg.norm(evaluate(seg, s, 2), axis=1)
+        k_mid = np.linalg.norm(evaluate(seg[:-1], 0.5 * (s[1:] + s[:-1]), 2), axis=1)
+        hi = np.maximum(np.maximum(k[:-1], k[1:]), k_mid)
+        lo = np.minimum(np.minimum(k[:-1], k[1:]), k_mid)
+        # where the curvature changes by more than DKAPPA_REL of its value across an interval, the
+        # acceleration q″·ṡ² between two grid points is not bounded by the ends
+        split = np.nonzero(
+            same & ((turn > DTHETA_ACC) | (hi - lo > DKAPPA_REL * hi + 1e-6)) & (np.diff(s) > 1e-7)
+        )[0]
+        if not len(split) or round_ == rounds:
             break
-        grid = np.sort(np.concatenate((grid, 0.5 * (grid[split] + grid[split + 1]))))
-    return grid
+        s = np.insert(s, split + 1, 0.5 * (s[split] + s[split + 1]))
+        seg = np.insert(seg, split + 1, seg[split])
+    ends = np.maximum(np.maximum(k[:-1], k[1:]), 1e-9)
+    # the midpoint's excess, and a quarter of the allowed change for a peak off the midpoint
+    excess = np.minimum(np.maximum(k_mid / ends, 1.0) + 0.25 * DKAPPA_REL, 1.0 + DKAPPA_REL)
+    return seg, s, turn, excess

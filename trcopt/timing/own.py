@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from trcopt.modes import TimingEngine
-from trcopt.timing.grid import segment_grid
+from trcopt.timing.grid import curve_grids, segment_grid
 from trcopt.timing.path import PathArrays
 from trcopt.timing.reach import (
     ellipse_terms,
@@ -90,7 +90,9 @@ class _Problem:
         if path_amax is None:
             rows.linear = pass_coefficients(alpha, beta, gamma, curved)
         else:
-            cl, cr, dd = ellipse_terms(np.linalg.norm(d2l, axis=1), np.linalg.norm(d2r, axis=1), delta, path_amax)
+            # on a curve the vector rows are tightened like the axis rows (its curvature varies)
+            a_vec = np.where(arrays.kind[iseg] == 2, path_amax * tighten, path_amax)
+            cl, cr, dd = ellipse_terms(np.linalg.norm(d2l, axis=1), np.linalg.norm(d2r, axis=1), delta, a_vec)
             rows.vector = (alpha, beta, gamma, cl, cr, dd)
         return rows
 
@@ -144,19 +146,14 @@ def solve_own(
     for group in _groups(short, n_int, max(group_budget, limit)):
         idx = np.concatenate([np.arange(pb.offsets[q], pb.offsets[q + 1]) for q in group])
         rows = pb.rows(idx)
-        pieces, at = [], 0
-        for q in group:
-            m = int(n_int[q])
-            xm = rows.caps(at, at + m)
-            xm[0] = xm[m] = 0.0
-            pieces.append((at, m, xm))
-            at += m
-        xs, bad, _ = _lockstep(rows, pieces)
-        for (at, m, _), q, x, b in zip(pieces, group, xs, bad, strict=True):
-            if b.any():
-                failed.append(secs[q].index)
-            else:
-                solved[secs[q].index] = _expand(pb, rows, at, m, x)
+        ms = n_int[group].astype(np.int64)
+        ats = np.concatenate(([0], np.cumsum(ms)[:-1]))
+        xs, bad, _ = _lockstep(rows, _short_pieces(rows, ats, ms))
+        bad_any = [bool(b.any()) for b in bad] if len(group) < 64 else _any_rows(bad)
+        ok = [r for r, b in enumerate(bad_any) if not b]
+        failed.extend(secs[group[r]].index for r, b in enumerate(bad_any) if b)
+        for r, res in zip(ok, _expand_many(pb, rows, [(int(ats[r]), int(ms[r]), xs[r]) for r in ok]), strict=True):
+            solved[secs[group[r]].index] = res
     for q in range(len(secs)):
         if n_int[q] > limit:
             out = _solve_windows(pb, q, limit)
@@ -167,6 +164,27 @@ def solve_own(
     return solved, failed
 
 
+def _short_pieces(rows: _Rows, ats: np.ndarray, ms: np.ndarray) -> list[tuple[int, int, np.ndarray]]:
+    """The pieces of a group of short sections (consecutive in ``rows``): start, interval count
+    and node caps, at rest at both ends (the inner nodes capped from both sides, as
+    :meth:`_Rows.caps`)."""
+    inner = np.minimum(rows.cap_l[1:], rows.cap_r[:-1])  # node between interval j and j + 1
+    zero = np.zeros(1)
+    return [
+        (a, m, np.concatenate((zero, inner[a : a + m - 1], zero)))
+        for a, m in zip(ats.tolist(), ms.tolist(), strict=True)
+    ]
+
+
+def _any_rows(bad: list[np.ndarray]) -> list[bool]:
+    """``[b.any() for b in bad]`` in one call."""
+    lengths = np.array([b.shape[0] for b in bad])
+    flat = np.concatenate(bad) if bad else np.zeros(0, bool)
+    cum = np.concatenate(([0], np.cumsum(flat, dtype=np.int64)))
+    ends = np.cumsum(lengths)
+    return (cum[ends] - cum[ends - lengths] > 0).tolist()
+
+
 def _grid(
     secs: Sequence[Section], arrays: PathArrays, feeds: np.ndarray, vmax: np.ndarray, amax: np.ndarray,
     path_amax: float | None,
@@ -174,14 +192,19 @@ def _grid(
     amin = float(amax.min()) if path_amax is None else min(float(amax.min()), path_amax)
     s_lo, s_hi, seg_of, rate_of = [], [], [], []
     n_int = np.zeros(len(secs), dtype=np.int64)
+    # the curves' grids refined together (one evaluation of all their points per round)
+    curves = curve_grids(arrays, [k for sec in secs for k in sec.segment_indices if arrays.kind[k] == 2], feeds, amin)
     for q, sec in enumerate(secs):
         for k in sec.segment_indices:
-            local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, TimingEngine.OWN)
+            if k in curves:
+                local, turn_rate = curves[k]
+            else:
+                local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, TimingEngine.OWN)
             m = local.shape[0] - 1
             s_lo.append(local[:-1])
             s_hi.append(local[1:])
             seg_of.append(np.full(m, k))
-            rate_of.append(np.full(m, turn_rate))
+            rate_of.append(np.broadcast_to(turn_rate, (m,)))  # per interval on a curve
             n_int[q] += m
     offsets = np.concatenate(([0], np.cumsum(n_int)))
     return _Problem(
@@ -216,9 +239,16 @@ def _lockstep(
     returns per piece the forward profile, the lower-row violations per interval and the backward
     pass."""
     G, N = len(pieces), max(m for _, m, _ in pieces)
+    ms = [m for _, m, _ in pieces]
+    counts = np.array(ms, dtype=np.int64)
+    # every interval of every piece: its row in the padded arrays, its column and its source row
+    rr = np.repeat(np.arange(G), counts)
+    cc = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+    src = np.repeat(np.array([a for a, _, _ in pieces], dtype=np.int64), counts) + cc
     X = np.zeros((G, N + 1))
-    for r, (_, m, xm) in enumerate(pieces):
-        X[r, : m + 1] = xm
+    nodes = counts + 1
+    node_col = np.arange(int(nodes.sum())) - np.repeat(np.cumsum(nodes) - nodes, nodes)
+    X[np.repeat(np.arange(G), nodes), node_col] = np.concatenate([xm for _, _, xm in pieces])
     first = None if start is None else np.full(G, start)
     if rows.linear is not None:
         qb, wb, zb, wf, zf = rows.linear
@@ -228,9 +258,8 @@ def _lockstep(
         WF = np.zeros((2, G, N, 12))
         ZF = np.empty((2, G, N, 12))
         ZF[0], ZF[1] = np.inf, -np.inf
-        for r, (a, m, _) in enumerate(pieces):
-            Q[r, :m], WB[r, :m], ZB[r, :m] = qb[a : a + m], wb[a : a + m], zb[a : a + m]
-            WF[:, r, :m], ZF[:, r, :m] = wf[:, a : a + m], zf[:, a : a + m]
+        Q[rr, cc], WB[rr, cc], ZB[rr, cc] = qb[src], wb[src], zb[src]
+        WF[:, rr, cc], ZF[:, rr, cc] = wf[:, src], zf[:, src]
         F, bad, B = solve_lockstep(Q, WB, ZB, WF, ZF, X, backward=True, start=first)
     else:
         assert rows.vector is not None
@@ -242,12 +271,9 @@ def _lockstep(
         CR = np.zeros((G, N))
         DD = np.ones((G, N))
         CU = np.zeros((G, N), dtype=bool)
-        for r, (a, m, _) in enumerate(pieces):
-            sl = slice(a, a + m)
-            AL[r, :m], BE[r, :m], GA[r, :m] = alpha[sl], beta[sl], gamma[sl]
-            CL[r, :m], CR[r, :m], DD[r, :m], CU[r, :m] = cl[sl], cr[sl], dd[sl], rows.curved[sl]
+        AL[rr, cc], BE[rr, cc], GA[rr, cc] = alpha[src], beta[src], gamma[src]
+        CL[rr, cc], CR[rr, cc], DD[rr, cc], CU[rr, cc] = cl[src], cr[src], dd[src], rows.curved[src]
         F, bad, B = solve_lockstep_vector(AL, BE, GA, CL, CR, DD, CU, X, backward=True, start=first)
-    ms = [m for _, m, _ in pieces]
     return [F[r, : m + 1] for r, m in enumerate(ms)], [bad[r, :m] for r, m in enumerate(ms)], [
         B[r, : m + 1] for r, m in enumerate(ms)
     ]
@@ -311,11 +337,25 @@ def _expand_lines(
 
     The ramps use the per-axis acceleration projected on the line, and at most ``path_amax``.
     """
+    S, Xv = _switch_points(s[:-1], s[1:], x[:-1], x[1:], iseg, arrays, d1, f2, vmax, amax, path_amax)
+    valid = ~np.isnan(S)
+    out_s = np.append(S[valid], s[-1])
+    out_x = np.append(Xv[valid], x[-1])
+    out_seg = np.repeat(iseg, valid.sum(axis=1))
+    return out_s, out_x, out_seg
+
+
+def _switch_points(
+    s0: np.ndarray, s1: np.ndarray, x0: np.ndarray, x1: np.ndarray, iseg: np.ndarray, arrays: PathArrays,
+    d1: np.ndarray, f2: np.ndarray, vmax: np.ndarray, amax: np.ndarray, path_amax: float | None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per interval (from ``s0``, ``x0`` to ``s1``, ``x1``): its start and up to two switch points
+    (m×3 arc lengths and squared speeds, NaN where there is none)."""
     m = iseg.shape[0]
     is_line = arrays.kind[iseg] == 0
     S = np.full((m, 3), np.nan)
     Xv = np.full((m, 3), np.nan)
-    S[:, 0], Xv[:, 0] = s[:-1], x[:-1]
+    S[:, 0], Xv[:, 0] = s0, x0
     if np.any(is_line):
         with np.errstate(divide="ignore", over="ignore"):
             ad = np.abs(d1)
@@ -323,22 +363,55 @@ def _expand_lines(
             if path_amax is not None:
                 acc = np.minimum(acc, path_amax)
             xv = np.minimum(((vmax[None, :] / ad) ** 2).min(axis=1), f2)
-        L = s[1:] - s[:-1]
-        x0, x1 = x[:-1], x[1:]
-        s1 = (xv - x0) / (2 * acc)
-        s2 = L - (xv - x1) / (2 * acc)
+        L = s1 - s0
+        sw1 = (xv - x0) / (2 * acc)
+        sw2 = L - (xv - x1) / (2 * acc)
         eps = 1e-12 * (1.0 + L)
-        cruise = is_line & (s1 < s2 - eps)
-        use1 = cruise & (s1 > eps)
-        use2 = cruise & (s2 < L - eps)
-        S[use1, 1], Xv[use1, 1] = s[:-1][use1] + s1[use1], xv[use1]
-        S[use2, 2], Xv[use2, 2] = s[:-1][use2] + s2[use2], xv[use2]
+        cruise = is_line & (sw1 < sw2 - eps)
+        use1 = cruise & (sw1 > eps)
+        use2 = cruise & (sw2 < L - eps)
+        S[use1, 1], Xv[use1, 1] = s0[use1] + sw1[use1], xv[use1]
+        S[use2, 2], Xv[use2, 2] = s0[use2] + sw2[use2], xv[use2]
         peak = is_line & ~cruise
         sp = (x1 - x0 + 2 * acc * L) / (4 * acc)
         usep = peak & (sp > eps) & (sp < L - eps)
-        S[usep, 1], Xv[usep, 1] = s[:-1][usep] + sp[usep], np.minimum(x0[usep] + 2 * acc[usep] * sp[usep], xv[usep])
-    valid = ~np.isnan(S)
-    out_s = np.append(S[valid], s[-1])
-    out_x = np.append(Xv[valid], x[-1])
-    out_seg = np.repeat(iseg, valid.sum(axis=1))
-    return out_s, out_x, out_seg
+        S[usep, 1], Xv[usep, 1] = s0[usep] + sp[usep], np.minimum(x0[usep] + 2 * acc[usep] * sp[usep], xv[usep])
+    return S, Xv
+
+
+def _expand_many(pb: _Problem, rows: _Rows, pieces: list[tuple[int, int, np.ndarray]]) -> list[Result]:
+    """:func:`_expand` of several pieces (start in ``rows``, interval count, profile) at once: the
+    same values, computed over all their intervals in one pass."""
+    if not pieces:
+        return []
+    ats = np.array([a for a, _, _ in pieces], dtype=np.int64)
+    ms = np.array([m for _, m, _ in pieces], dtype=np.int64)
+    total = int(ms.sum())
+    first = np.cumsum(ms) - ms  # first interval of each piece in the flat arrays
+    sel = np.repeat(ats - first, ms) + np.arange(total)  # rows of every interval
+    idx = rows.idx[sel]
+    iseg = pb.iseg[idx]
+    s0 = pb.arrays.start[iseg] + pb.lo[idx]
+    last = first + ms - 1
+    s1 = np.empty(total)
+    s1[:-1] = s0[1:]
+    s1[last] = pb.arrays.start[iseg[last]] + pb.hi[idx[last]]
+    x0 = np.concatenate([x[:-1] for _, _, x in pieces])
+    x1 = np.concatenate([x[1:] for _, _, x in pieces])
+    S, Xv = _switch_points(s0, s1, x0, x1, iseg, pb.arrays, rows.d1l[sel], rows.f2[sel], pb.vmax, pb.amax, pb.path_amax)
+    end = np.zeros(total, dtype=bool)
+    end[last] = True
+    S4 = np.column_stack((S, np.where(end, s1, np.nan)))
+    X4 = np.column_stack((Xv, np.where(end, x1, np.nan)))
+    valid = ~np.isnan(S4)
+    valid[:, 3] = end
+    flat_s, flat_x = S4[valid], X4[valid]
+    per_interval = valid[:, :3].sum(axis=1)
+    flat_seg = np.repeat(iseg, per_interval)
+    n_seg = np.concatenate(([0], np.cumsum(per_interval)))[np.append(first, total)]
+    n_pts = n_seg + np.arange(len(pieces) + 1)  # one end node per piece
+    out = []
+    for k in range(len(pieces)):
+        a, b, c, d = int(n_pts[k]), int(n_pts[k + 1]), int(n_seg[k]), int(n_seg[k + 1])
+        out.append((flat_s[a:b], flat_x[a:b], flat_seg[c:d]))
+    return out

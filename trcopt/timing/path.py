@@ -23,7 +23,7 @@ from typing import Literal
 
 import numpy as np
 
-from trcopt.geometry.poly import Poly
+from trcopt.geometry.poly import Poly, hermite_at, hermite_pieces
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.path import Segment
 
@@ -39,7 +39,7 @@ class SegmentEval:
         The tool-path segment; its geometry is in plane coordinates (u, v, w).
     """
 
-    __slots__ = ("segment", "length", "kind", "_perm", "_line", "_arc")
+    __slots__ = ("segment", "length", "kind", "_perm", "_line", "_arc", "_poly")
 
     def __init__(self, segment: Segment) -> None:
         self.segment = segment
@@ -49,6 +49,7 @@ class SegmentEval:
         self._perm = segment.plane.axes
         self._line: tuple[np.ndarray, np.ndarray] | None = None
         self._arc: tuple[float, ...] | None = None
+        self._poly: tuple[np.ndarray, ...] | None = None
         if isinstance(g, Line):
             self.kind = "line"
             p0 = np.array(g.start, dtype=float)
@@ -60,6 +61,7 @@ class SegmentEval:
             self._arc = (g.center[0], g.center[1], g.radius, g.a0, g.sweep, g.w0, g.w1)
         elif isinstance(g, Poly):
             self.kind = "poly"
+            self._poly = g.arrays()  # evaluated many times: the samples as arrays once
         else:  # pragma: no cover - the Geometry union is closed
             raise TypeError(f"unsupported geometry {type(g).__name__}")
 
@@ -96,9 +98,8 @@ class SegmentEval:
                 out[:, 1] = -k * sa
                 out[:, 2] = 0.0
             return out
-        g = self.segment.geometry
-        assert isinstance(g, Poly)
-        return np.asarray(g.derivatives_at(s, order), dtype=float).reshape(n, 3)
+        assert self._poly is not None
+        return hermite_at(self._poly, s, order).reshape(n, 3)  # type: ignore[arg-type]
 
     def eval(self, s: np.ndarray | float, order: int = 0) -> np.ndarray:
         """Position (order 0), dp/ds (1) or d²p/ds² (2) at local arc lengths ``s`` (mm), in xyz."""
@@ -214,6 +215,13 @@ class PathArrays:
             else:
                 self.kind[i] = 2
         self.has_poly = bool(np.any(self.kind == 2))
+        # the curves' samples concatenated (quintic and cubic ones apart): every (segment, s) pair
+        # on a curve is evaluated in one call
+        curves = [i for i in range(n) if self.kind[i] == 2]
+        quintic = {i: self.evals[i]._poly[3] is not None for i in curves}  # type: ignore[index]
+        self._curves = [
+            _Concatenated([(i, self.evals[i]) for i in curves if quintic[i] == q], n) for q in (True, False)
+        ]
 
     def eval(self, iseg: np.ndarray, s_local: np.ndarray, order: int) -> np.ndarray:
         """Position/derivative of order 0..2 in xyz at local arc length ``s_local`` of ``iseg``."""
@@ -246,9 +254,85 @@ class PathArrays:
         out[rows, self.perm[iseg]] = uvw
         m = kind == 2
         if np.any(m):
-            for j in np.nonzero(m)[0]:
-                out[j] = self.evals[iseg[j]].eval(s_local[j], order)[0]
+            js = np.nonzero(m)[0]
+            for curves in self._curves:
+                curves.eval_into(out, js, iseg[js], s_local[js], order)
         return out
+
+
+    def eval012(self, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(eval(…, 0), eval(…, 1), eval(…, 2))`` in one pass: the same values, the masks, angles
+        and their sines and cosines computed once."""
+        if self.has_poly:
+            return self.eval(iseg, s_local, 0), self.eval(iseg, s_local, 1), self.eval(iseg, s_local, 2)
+        n = s_local.shape[0]
+        p, d1, d2 = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+        kind = self.kind[iseg]
+        m = kind == 0
+        if np.any(m):
+            ii = iseg[m]
+            d = self.d[ii]
+            p[m] = self.p0[ii] + s_local[m, None] * d
+            d1[m] = d
+        m = kind == 1
+        if np.any(m):
+            ii = iseg[m]
+            cu, cv, r, a0, da, w0, dw = self.arc[ii].T
+            sl = s_local[m]
+            a = a0 + sl * da
+            ca, sa = np.cos(a), np.sin(a)
+            p[m] = np.stack((cu + r * ca, cv + r * sa, w0 + dw * sl), axis=1)
+            d1[m] = np.stack((-r * da * sa, r * da * ca, dw), axis=1)
+            k = r * da * da
+            d2[m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
+        rows = np.arange(n)[:, None]
+        cols = self.perm[iseg]
+        out = []
+        for uvw in (p, d1, d2):
+            o = np.empty_like(uvw)
+            o[rows, cols] = uvw
+            out.append(o)
+        return out[0], out[1], out[2]
+
+
+class _Concatenated:
+    """The samples of several Poly segments in one set of arrays (each segment's arc length
+    shifted by the lengths before it), evaluated for many (segment, s) pairs in one call."""
+
+    def __init__(self, members: Sequence[tuple[int, SegmentEval]], n_segments: int) -> None:
+        self.member = np.full(n_segments, -1, dtype=np.int64)
+        if not members:
+            return
+        evals = [e for _, e in members]
+        parts = [e._poly for e in evals]
+        lengths = np.array([p[0][-1] for p in parts])  # type: ignore[index]
+        self.offset = np.concatenate(([0.0], np.cumsum(lengths)))[:-1]
+        sizes = np.array([len(p[0]) for p in parts])  # type: ignore[index]
+        first = np.concatenate(([0], np.cumsum(sizes)))[:-1]
+        self.first, self.last = first, first + sizes - 2  # the first and last sample interval of each
+        cat = [np.concatenate([p[j] for p in parts]) for j in range(3)]  # type: ignore[index]
+        cat[0] = cat[0] + np.repeat(self.offset, sizes)
+        quintic = parts[0][3] is not None  # type: ignore[index]
+        K = np.concatenate([p[3] for p in parts]) if quintic else None  # type: ignore[index,misc]
+        self.arrays = (cat[0], cat[1], cat[2], K)
+        self.perm = np.array([e._perm for e in evals], dtype=np.int64)
+        self.member[[i for i, _ in members]] = np.arange(len(members))
+
+    def eval_into(self, out: np.ndarray, rows: np.ndarray, iseg: np.ndarray, s_local: np.ndarray, order: int) -> None:
+        """Write the derivative of ``order`` (xyz) at ``s_local`` of the segments ``iseg`` into ``out[rows]``
+        for the pairs whose segment is one of these curves."""
+        j = self.member[iseg]
+        mine = j >= 0
+        if not np.any(mine):
+            return
+        j, rows, s_local = j[mine], rows[mine], s_local[mine]
+        cum = self.arrays[0]
+        s = self.offset[j] + np.clip(s_local, 0.0, cum[self.last[j] + 1] - self.offset[j])
+        i = np.clip(np.searchsorted(cum, s, side="right") - 1, self.first[j], self.last[j])
+        uvw = hermite_pieces(self.arrays, i, s, order)
+        res = np.empty_like(uvw)
+        res[np.arange(len(j))[:, None], self.perm[j]] = uvw
+        out[rows] = res
 
 
 def path_derivatives(arrays: PathArrays, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -203,7 +203,7 @@ _TINY = 1e-12
 
 
 def ellipse_terms(
-    kappa_l: np.ndarray, kappa_r: np.ndarray, delta: np.ndarray, amax: float
+    kappa_l: np.ndarray, kappa_r: np.ndarray, delta: np.ndarray, amax: float | np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(c_l, c_r, D)`` of the vector-acceleration rows of intervals of length ``delta`` (mm).
 

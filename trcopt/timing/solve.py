@@ -49,9 +49,9 @@ def time_parameterize(
         Per-axis ``vmax`` (mm/s) and ``amax`` (mm/s²), the optional vector limits
         ``machine.path`` (path speed, |a|), rapid feed and feed reference.
     engine:
-        ``AUTO`` (own reachability solver on line/arc sections, toppra on sections with Poly
-        curves), ``OWN`` (same, spelled out) or ``TOPPRA`` (toppra on every section); the value
-        strings are accepted.
+        ``AUTO`` (own reachability solver on every section — lines and arcs in closed form, Poly
+        curves on their turning-refined grid — and toppra on a section it cannot solve), ``OWN``
+        (same, spelled out) or ``TOPPRA`` (toppra on every section); the value strings are accepted.
     workers:
         Processes for the toppra sections (independent sections run in parallel).
     tangent_tol_rad:
@@ -77,9 +77,7 @@ def time_parameterize(
     speed = path_speed_caps(feeds, machine)
     path_amax = machine.path.amax_mm_s2
     sections = split_sections(segments, arrays, tangent_tol_rad)
-    use_toppra = [
-        engine is TimingEngine.TOPPRA or bool(np.any(arrays.kind[sec.first : sec.last + 1] == 2)) for sec in sections
-    ]
+    use_toppra = [engine is TimingEngine.TOPPRA] * len(sections)
     results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
     own = [sec for sec, t in zip(sections, use_toppra, strict=True) if not t]
     if own:

@@ -25,19 +25,22 @@ from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.timing.checks import (
     MAX_SAMPLES,
+    SAMPLE_CHUNK,
     PathLimitReport,
     axis_triple,
     check_step,
     max_jerk,
     path_deviation,
     path_ratios,
+    sample_chunks,
+    sample_times,
     worst,
 )
 from trcopt.timing.path import PathArrays
 from trcopt.timing.sections import Section, axis_limits
 from trcopt.trajectory import Samples
 
-__all__ = ["MAX_SAMPLES", "TimedTrajectory", "check_step", "sample_times"]
+__all__ = ["MAX_SAMPLES", "SAMPLE_CHUNK", "TimedTrajectory", "check_step", "sample_chunks", "sample_times"]
 
 # the constraints binding_constraints() names, in the column order of its table of ratios; the
 # vector limits of the machine, where given, follow in the order of PATH_BINDING_NAMES
@@ -51,29 +54,6 @@ PATH_BINDING_NAMES = ("path velocity", "path acceleration")
 # 3.6·10⁶, one hour of cycle at 1 ms (a feed CSV of ≈ 400 MB, half a minute to write). A longer
 # cycle at that rate is refused with a TimingError, not a MemoryError or a write that runs for many
 # minutes; the limit checks of the plan sample such a cycle coarser (check_step).
-
-
-def sample_times(duration: float, dt: float) -> np.ndarray:
-    """Times every ``dt`` seconds from 0 to ``duration``, both included, s.
-
-    Raises
-    ------
-    TimingError
-        ``duration`` is not finite, or it needs more than :data:`MAX_SAMPLES` samples at ``dt``.
-    """
-    if dt <= 0:
-        raise ValueError("dt must be positive (s)")
-    if not np.isfinite(duration) or duration / dt + 1 > MAX_SAMPLES:
-        raise TimingError(
-            f"a cycle of {duration:.6g} s sampled every {dt:g} s needs more than {MAX_SAMPLES} samples "
-            "(trcopt.timing.trajectory.MAX_SAMPLES)",
-            code=Code.TIMING,
-        )
-    n = int(np.floor(duration / dt)) + 1
-    ts = np.arange(n) * dt
-    if ts[-1] < duration:
-        ts = np.append(ts, duration)
-    return ts
 
 
 def _max_ratios(rep: PathLimitReport) -> dict[str, Any]:
@@ -132,6 +112,8 @@ class TimedTrajectory:
             dt = np.where(delta > 0, 2.0 * delta / den, 0.0)
             self.u = np.where(delta > 0, (self.x[1:] - self.x[:-1]) / (2.0 * delta), 0.0)
         self.t = np.concatenate(([0.0], np.cumsum(dt)))
+        self._labels: np.ndarray | None = None  # block label of every segment (object array), when needed
+        self._checked: dict[tuple[float, float], PathLimitReport] = {}  # check_limits by (dt, tolerance)
 
     # -- construction ---------------------------------------------------------------------------
     @classmethod
@@ -198,15 +180,21 @@ class TimedTrajectory:
         tau = np.where(ds > 0, tau, 0.0)
         return self.t[i] + tau
 
+    def segment_times(self) -> tuple[np.ndarray, np.ndarray]:
+        """Start and end time (s) of every segment: the ``t_start_s``/``t_end_s`` of
+        :meth:`segments_with_times`."""
+        if not self.segments:
+            return np.zeros(0), np.zeros(0)
+        assert self.arrays is not None
+        t0 = self.time_at(self.arrays.start)
+        return t0, np.append(t0[1:], self.duration)
+
     def segments_with_times(self) -> list[Segment]:
         """The tool path with ``t_start_s``/``t_end_s`` set on every segment."""
         if not self.segments:
             return []
-        assert self.arrays is not None
-        starts = self.arrays.start
-        t0 = self.time_at(starts)
-        t1 = np.append(t0[1:], self.duration)
-        return [seg.with_times(float(a), float(b)) for seg, a, b in zip(self.segments, t0, t1, strict=True)]
+        t0, t1 = self.segment_times()
+        return [seg.with_times(a, b) for seg, a, b in zip(self.segments, t0.tolist(), t1.tolist(), strict=True)]
 
     # -- sampling -------------------------------------------------------------------------------
     def _state_at(self, ts: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -231,13 +219,12 @@ class TimedTrajectory:
         assert self.arrays is not None
         seg = self.iseg[i]
         local = np.clip(s - self.arrays.start[seg], 0.0, self.arrays.length[seg])
-        p = self.arrays.eval(seg, local, 0)
-        d1 = self.arrays.eval(seg, local, 1)
-        d2 = self.arrays.eval(seg, local, 2)
+        p, d1, d2 = self.arrays.eval012(seg, local)
         v = d1 * sd[:, None]
         a = d1 * u[:, None] + d2 * (sd * sd)[:, None]
-        labels = np.array([sg.span.block_label() for sg in self.segments], dtype=object)
-        return Samples(ts, s, p, sd, v, a, seg, labels[seg], u)
+        if self._labels is None:
+            self._labels = np.array([sg.span.block_label() for sg in self.segments], dtype=object)
+        return Samples(ts, s, p, sd, v, a, seg, self._labels[seg], u)
 
     def sample(self, dt: float = 1e-3) -> Samples:
         """Samples every ``dt`` seconds from 0 to the duration (both included)."""
@@ -276,13 +263,27 @@ class TimedTrajectory:
         """
         if not self.segments:
             return PathLimitReport(True, (0.0,) * 3, (0.0,) * 3, 0.0, 0.0, 0.0, tolerance, 0)
-        smp = self.sample(dt)
-        vr1, ar1, fr1 = self._ratios(smp)
+        key = (float(dt), float(tolerance))
+        if key not in self._checked:
+            self._checked[key] = self._check_limits(dt, tolerance)
+        return self._checked[key]
+
+    def _check_limits(self, dt: float, tolerance: float) -> PathLimitReport:
+        # the samples in chunks (bounded memory): the largest ratios are those of all samples at once
+        vr1, ar1, fr1 = np.zeros(3), np.zeros(3), 0.0
+        pv1 = pa1 = None
+        for ts in sample_chunks(self.duration, dt):
+            smp = self.evaluate(ts)
+            vr, ar, fr = self._ratios(smp)
+            vr1, ar1, fr1 = np.maximum(vr1, vr), np.maximum(ar1, ar), max(fr1, fr)
+            pv, pa, _ = path_ratios(self.machine.path, smp)
+            pv1, pa1 = worst(pv1, pv), worst(pa1, pa)
         grid = self.grid_states()
         vr2, ar2, fr2 = self._ratios(grid)
         vr, ar = np.maximum(vr1, vr2), np.maximum(ar1, ar2)
         fr = max(fr1, fr2)
-        pv, pa, _ = path_ratios(self.machine.path, smp, grid)
+        pv2, pa2, _ = path_ratios(self.machine.path, grid)
+        pv, pa = worst(pv1, pv2), worst(pa1, pa2)
         corner = float(self.sd[self.section_points].max())
         assert self.arrays is not None
         dev = path_deviation(self.segments, self.arrays.start, grid)
