@@ -277,3 +277,20 @@ def test_cli_exit_code_agrees_with_the_verification(tmp_path, capsys) -> None:
 def test_every_model_family_has_a_code() -> None:
     assert set(verify_module.FAMILY_CODES) == set(verify_module.FAMILIES) - set(verify_module.INFORMATIONAL)
     assert set(verify_module.FAMILY_CODES.values()) == VERIFY_CODES
+
+
+@settings(max_examples=80, deadline=None)
+@given(boxes(), st.lists(st.tuples(coord, coord, st.floats(0, 10), st.floats(0, 10), st.floats(0.0, 8.0)),
+                         min_size=1, max_size=12),
+       st.sampled_from([None, 0.5, 3.0]))
+def test_batch_queries_equal_single_queries(b, queries, margin_hint) -> None:
+    # BoxGrid.near_many (the verification's batch query) gives every query exactly near()'s
+    # candidates, in order, whatever cell size the grid is built with
+    grid, brute = BoxGrid(b, margin=margin_hint), BruteForce(b)
+    qb = np.array([(u, v, u + w, v + h) for u, v, w, h, _ in queries], float)
+    margins = np.array([m for *_, m in queries], float)
+    q, i = grid.near_many(qb, margins)
+    for n, row in enumerate(qb):
+        expected = sorted(brute.near(tuple(row), float(margins[n])).tolist())
+        assert i[q == n].tolist() == expected
+        assert grid.near(tuple(row), float(margins[n])).tolist() == expected

@@ -188,23 +188,35 @@ def clearance_limits(
     is not R (see the module docstring); ``leads`` are the segments measured as lead clearance."""
     index = {id(p): i for i, p in enumerate(blocks.part)}
     out: dict[int, dict[int, Limit]] = {}
+    n = len(toolpath)
 
     def put(k: int, i: int | None, distance: float, kind: str) -> None:
-        if i is None or not 0 <= k < len(toolpath) or distance >= toolpath[k].radius:
+        if i is None or not 0 <= k < n or distance >= toolpath[k].radius:
             return
         old = out.setdefault(k, {}).get(i)
         if old is None or distance < old.distance:
             out[k][i] = Limit(distance, kind)
 
+    get = index.get
     for k, c in conts.items():
         # both tool segments at the joint, against the programmed elements that meet there, and
-        # the line against the element at its other end (which its tilt approaches)
+        # the line against the element at its other end (which its tilt approaches); put() inlined
         limit = toolpath[k].radius * math.cos(c.turn)
-        for el in (c.previous, c.programmed):
-            put(k, index.get(id(el)), limit, NEAR_TANGENT)
-            put(k - 1, index.get(id(el)), limit, NEAR_TANGENT)
+        lim = Limit(limit, NEAR_TANGENT)
+        puts = [(k, get(id(c.previous))), (k - 1, get(id(c.previous))), (k, get(id(c.programmed))),
+                (k - 1, get(id(c.programmed)))]  # fmt: skip
         if c.following is not None:
-            put(k, index.get(id(c.following)), limit, NEAR_TANGENT)
+            puts.append((k, get(id(c.following))))
+        for kk, i in puts:
+            if i is None or not 0 <= kk < n or limit >= toolpath[kk].radius:
+                continue
+            own = out.get(kk)
+            if own is None:
+                out[kk] = {i: lim}
+                continue
+            old = own.get(i)
+            if old is None or limit < old.distance:
+                own[i] = lim
     part_by_line: dict[int, list[int]] = {}
     for i, p in enumerate(blocks.part):
         part_by_line.setdefault(p.span.line, []).append(i)

@@ -57,6 +57,7 @@ from trcopt.path import Role, Segment
 from trcopt.verify.clearance import clearance_distances
 from trcopt.verify.contour import contour_blocks
 from trcopt.verify.index import BoxGrid
+from trcopt.verify.index import BoxGrid as _Grid
 from trcopt.verify.joints import (
     NEAR_TANGENT,
     activation_corners,
@@ -316,7 +317,11 @@ def verify_plan(
         prog_by_line.setdefault(p.span.line, []).append(p)
     # programmed vertices (the centres of transition circles) and the part's boxes, indexed
     vertices = BoxGrid(np.array([[*p.geometry.start[:2], *p.geometry.start[:2]] for p in blocks.compensated]))
-    grid = BoxGrid(np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4)))
+    boxes = np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4))
+    # cells fitted to the queries (an element and R around it); a reference filter put in the
+    # grid's place (tests, benchmarks) takes the boxes alone
+    margin = max((seg.radius for seg in toolpath if seg.radius > 0.0), default=0.0)
+    grid = BoxGrid(boxes, margin=margin) if BoxGrid is _Grid else BoxGrid(boxes)
     conts = continuations(toolpath, programmed, near_tangent_rad, blocks.closings)
 
     # ---- radius (contact) and element direction -------------------------------------------
@@ -365,6 +370,11 @@ def verify_plan(
                 fam["radius"].add(abs(g.radius - sar.disr), k, seg)
 
     # ---- joints: continuity and tangency ---------------------------------------------------
+    # a transition circle (corner, KONT arc) is tangent to the offset contour element it joins;
+    # two circles meeting at an intersection (CDON omitted blocks) are not
+    transition = (Role.CORNER, Role.APPROACH, Role.RETRACT)
+    end_tangents: dict[int, Any] = {}  # line → end tangent of its last programmed element
+    start_tangents: dict[int, Any] = {}  # line → start tangent of its first one
     for k in range(len(toolpath) - 1):
         a, b = toolpath[k], toolpath[k + 1]
         fam["continuity"].add(math.dist(a.geometry.end, b.geometry.start), k + 1, b)
@@ -373,9 +383,6 @@ def verify_plan(
         ga, gb = a.geometry, b.geometry
         if ga.plane_length <= 0.0 or gb.plane_length <= 0.0:
             continue
-        # a transition circle (corner, KONT arc) is tangent to the offset contour element it
-        # joins; two circles meeting at an intersection (CDON omitted blocks) are not
-        transition = (Role.CORNER, Role.APPROACH, Role.RETRACT)
         # ... at the offset end (start) point of its programmed element; where the circle was cut
         # by the neighbouring offset (the end point behind the contour, R35) the joint is an
         # intersection by construction
@@ -397,10 +404,14 @@ def verify_plan(
             sar = _sar_for(b.span.line, specs, Role.RETRACT)
             required = sar is not None and not sar.contour.is_approach
         if not required and a.role is Role.CONTOUR and b.role is Role.CONTOUR:
-            pa = [p.geometry for p in prog_by_line.get(a.span.line, [])]
-            pb = [p.geometry for p in prog_by_line.get(b.span.line, [])]
-            if pa and pb:
-                ta, tb = pa[-1].end_tangent(), pb[0].start_tangent()
+            la, lb = a.span.line, b.span.line
+            if prog_by_line.get(la) and prog_by_line.get(lb):
+                ta = end_tangents.get(la)
+                if ta is None:
+                    ta = end_tangents[la] = prog_by_line[la][-1].geometry.end_tangent()
+                tb = start_tangents.get(lb)
+                if tb is None:
+                    tb = start_tangents[lb] = prog_by_line[lb][0].geometry.start_tangent()
                 required = abs(math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])) <= (
                     _TANGENT_PROGRAMMED_RAD
                 )
@@ -456,23 +467,26 @@ def verify_plan(
     }
     limits = clearance_limits(toolpath, blocks, conts, leads)
     allowed: dict[str, tuple[float, int]] = {}  # kind → (largest R − distance within its limit, segment)
-    distances = clearance_distances(toolpath, part, grid, _COMPENSATED_ROLES)
-    for k, seg in enumerate(toolpath):
-        if k not in distances:
-            continue
-        R = seg.radius
-        own = limits.get(k, {})
-        worst = 0.0
-        for i, d in distances[k]:
-            lim = own.get(i)
-            if lim is None:
-                worst = max(worst, R - d)
-                continue
-            worst = max(worst, lim.distance - d)
-            excused = R - max(d, lim.distance)
-            if excused > allowed.get(lim.kind, (0.0, -1))[0]:
-                allowed[lim.kind] = (excused, k)
-        fam["lead_clearance" if k in leads else "clearance"].add(max(0.0, worst), k, seg)
+    measured, pk, pi, dist = clearance_distances(toolpath, part, grid, _COMPENSATED_ROLES)
+    # the pairs without a limit of their own: R − distance, largest per tool segment, all at once
+    radius_of = np.array([toolpath[k].radius for k in measured], float)
+    slot = np.searchsorted(np.array(measured, dtype=np.intp), pk)
+    width = max(len(part), 1)
+    limit_keys = np.fromiter((k * width + i for k, own in limits.items() for i in own), np.int64)
+    limited = np.isin(pk.astype(np.int64) * width + pi, limit_keys)  # the pairs with a limit of their own
+    worst_of = np.zeros(len(measured))
+    free = ~limited
+    np.fmax.at(worst_of, slot[free], radius_of[slot[free]] - dist[free])  # NaN-free max, as max() over the pairs
+    worst_by = dict(zip(measured, worst_of.tolist(), strict=True))
+    for n in np.nonzero(limited)[0].tolist():
+        k, i, d = int(pk[n]), int(pi[n]), float(dist[n])
+        lim = limits[k][i]
+        worst_by[k] = max(worst_by[k], lim.distance - d)
+        excused = toolpath[k].radius - max(d, lim.distance)
+        if excused > allowed.get(lim.kind, (0.0, -1))[0]:
+            allowed[lim.kind] = (excused, k)
+    for k in measured:
+        fam["lead_clearance" if k in leads else "clearance"].add(max(0.0, worst_by[k]), k, toolpath[k])
     for kind, (amount, k) in allowed.items():
         if amount > tolerance:
             notes.append(_allowed_note(kind, amount, toolpath[k], near_tangent_rad))
