@@ -67,7 +67,12 @@ class Line:
         return (self.end[0], self.end[1])
 
     def direction2(self) -> Vec2:
-        return vec.unit(vec.sub(self.end2, self.start2))
+        # vec.unit(vec.sub(end2, start2)), inlined (the same floats)
+        du, dv = self.end[0] - self.start[0], self.end[1] - self.start[1]
+        n = math.hypot(du, dv)
+        if n == 0.0:
+            raise ZeroDivisionError("unit vector of a zero vector")
+        return (du / n, dv / n)
 
     def start_tangent(self) -> Vec2:
         return self.direction2()

@@ -44,6 +44,19 @@ def _length_problem(value: float, what: str) -> str | None:
 
 def out_of_range(move: Move) -> str | None:
     """Why ``move`` holds a number out of range (a sentence), or None when every number is fine."""
+    m = MAX_COORDINATE_MM
+    p, q, c, feed = move.start, move.end, move.center, move.feed_mm_s
+    if (  # the common move: every number plainly in range (NaN fails every comparison)
+        len(p) == 3 and len(q) == 3
+        and -m <= p[0] <= m and -m <= p[1] <= m and -m <= p[2] <= m
+        and -m <= q[0] <= m and -m <= q[1] <= m and -m <= q[2] <= m
+        and (c is None or len(c) == 3 and -m <= c[0] <= m and -m <= c[1] <= m and -m <= c[2] <= m)
+        and (feed is None or 0.0 <= feed <= MAX_FEED_MM_S)
+        and -m <= move.comp.radius <= m
+        and 0 <= move.turns <= MAX_TURNS
+        and move.sar is None
+    ):  # fmt: skip
+        return None
     points = [("start point", move.start), ("end point", move.end)]
     if move.center is not None:
         points.append(("arc centre", move.center))

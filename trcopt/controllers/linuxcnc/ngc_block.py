@@ -80,6 +80,7 @@ def read_words(line: NgcLine, start: int, params: Parameters) -> Block:
     """Words and parameter settings of a (non-O) line from ``start``; values are evaluated."""
     text = line.text
     reader = ValueReader(text, params, start)
+    cols, n_cols = line.cols, len(line.cols)
     words: list[tuple[str, float, int]] = []
     settings: list[tuple[int | str, float]] = []
     while reader.pos < len(text):
@@ -101,7 +102,7 @@ def read_words(line: NgcLine, start: int, params: Parameters) -> Block:
             settings.append((key, reader.value()))
         elif c in _LETTERS:
             reader.pos += 1
-            words.append((c.upper(), reader.value(), line.col(at)))
+            words.append((c.upper(), reader.value(), cols[at] if at < n_cols else line.col(at)))
         elif c.isalpha():
             words.append((c.upper(), 0.0, line.col(at)))  # the caller names the unsupported word
             reader.pos += 1

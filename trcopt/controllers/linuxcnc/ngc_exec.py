@@ -48,7 +48,7 @@ def execute_block(w: Words, span: SourceSpan, st: NgcState, emit: Emit, arc_tol:
     out: list[Move] = []
 
     def first_takes_actions(move: Move) -> None:
-        if not out:
+        if not out and move.actions != tuple(actions):
             move = dataclasses.replace(move, actions=tuple(actions))
         out.append(move)
         emit(move)

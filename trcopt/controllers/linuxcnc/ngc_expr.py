@@ -64,6 +64,8 @@ _BINARY = {
 }  # fmt: skip
 _NUMBER_CHARS = re.compile(r"[+-]*[0-9.]*")
 _DECIMAL = re.compile(r"\d+\.?\d*|\.\d+")
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)")
+_DIGITS_POINT = frozenset("0123456789.")
 _WORD_OPS = ("mod", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor")
 
 
@@ -91,8 +93,17 @@ class NgcLine:
         return self.cols[min(max(index, 0), len(self.cols) - 1)]
 
 
+_BLANKS = " \t\r\n\f\v"
+_DROP_BLANKS = str.maketrans("", "", _BLANKS)
+
+
 def normalise(raw: str) -> NgcLine:
     """LinuxCNC's ``close_and_downcase`` (comments dropped rather than kept)."""
+    if raw.isascii() and "(" not in raw and ";" not in raw:
+        # the common line without comments: the same text and columns, without a loop per character
+        cols = [i for i, c in enumerate(raw, 1) if c not in _BLANKS]
+        cols.append((cols[-1] + 1) if cols else 1)
+        return NgcLine(raw.translate(_DROP_BLANKS).lower(), tuple(cols), None)
     out: list[str] = []
     cols: list[int] = []
     comment: str | None = None
@@ -173,8 +184,18 @@ class ValueReader:
 
     # -- values -------------------------------------------------------------------------------
     def value(self) -> float:
-        c, c1 = self._peek(), self._peek(1)
         at = self.pos
+        plain = _PLAIN_NUMBER.match(self.text, at)
+        if plain is not None:
+            # a plain decimal number not followed by more digits or points: what number() reads
+            end = plain.end()
+            if end == len(self.text) or self.text[end] not in _DIGITS_POINT:
+                v = float(plain.group())
+                if math.isinf(v):
+                    raise NgcError("Calculation resulted in 'infinity'", at)
+                self.pos = end
+                return v
+        c, c1 = self._peek(), self._peek(1)
         if c == "":
             raise NgcError("No characters found in reading real value", at, Code.NC_SYNTAX)
         if c == "[":
