@@ -7,6 +7,7 @@ Each stage is also callable on its own (:func:`trcopt.nc.read_program`,
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -70,7 +71,7 @@ class PlanOptions:
         rounding within the program's tolerance under LinuxCNC ``G64 P``, SINUMERIK
         ``G641``/``G642``/``CYCLE832``, Heidenhain ``CYCL DEF 32``; exact stops under ``G61.1``,
         ``G60``, ``G9``; the exact path without a mode), ``exact`` (exact stop at every corner), or
-        transitions within a tolerance at every corner: ``optimal`` (G2 quintics by SQP/OSQP) or
+        transitions within a tolerance at every corner: ``optimal`` (G2 quintics by SQP) or
         ``arc`` (same-ε circular blends, the usual controller smoothing) — within the program's
         tolerance where it sets one, else ``tolerance_mm`` (ε, mm). On a compensated path ε bounds
         the cut part; on an uncompensated one (G40 CAM output) the distance of the tool-centre
@@ -184,6 +185,34 @@ class PlanResult:
             timing=timing_json,
             extra=self.extra,
         )
+
+    def json_chunks(self, samples: str | None = None) -> Iterator[str]:
+        """The text of :func:`trcopt.io.plan_json.dumps_plan` of :meth:`to_json` in pieces, one
+        ``<segment>`` at a time (never the whole plan dictionary or text in memory); for
+        :func:`trcopt.io.atomic.write_chunks_atomic`. Raises ``PlanJsonError`` as ``dumps_plan``."""
+        from trcopt.io.plan_json import TimedSegments, plan_json_chunks
+
+        toolpath: Sequence[Segment] = self.toolpath
+        timing_json = None
+        if self.timing is not None:
+            times = getattr(self.timing, "segment_times", None)
+            toolpath = TimedSegments(self.timing.segments, *times()) if times else self.timing.segments_with_times()
+            timing_json = self.timing.to_json(samples=samples)
+        return plan_json_chunks(
+            program=self.program,
+            dialect=self.dialect,
+            diagnostics=self.diagnostics,
+            programmed=self.programmed,
+            toolpath=toolpath,
+            timing=timing_json,
+            extra=self.extra,
+        )
+
+    def write_json(self, path: str | Path, samples: str | None = None) -> Path:
+        """Write the plan JSON (:meth:`json_chunks`) to ``path`` atomically, streamed."""
+        from trcopt.io.atomic import write_chunks_atomic
+
+        return write_chunks_atomic(path, self.json_chunks(samples))
 
     def summary(self) -> str:
         """A few lines for the terminal."""

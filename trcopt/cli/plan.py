@@ -8,13 +8,14 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, check_outputs, err, err_exc
 from trcopt.errors import Severity, TrcoptError
+from trcopt.io.atomic import OutputError, StagedFile
 from trcopt.io.flavors import OUTPUT_FLAVORS
 from trcopt.modes import ApprRadius, ToolUnit, parse_enum
 from trcopt.optimize.corners import strategies as corner_strategies
@@ -195,8 +196,8 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_plan(args: argparse.Namespace) -> int:
-    from trcopt.io import dumps_plan, write_bytes_atomic
-    from trcopt.io.gcode_program import plan_to_gcode
+    from trcopt.io.atomic import stage_chunks
+    from trcopt.io.gcode_program import plan_to_gcode_chunks
     from trcopt.io.klartext import plan_to_klartext
     from trcopt.progress import reporting, stage, terminal_reporter
 
@@ -221,16 +222,16 @@ def run_plan(args: argparse.Namespace) -> int:
         out_controller = controllers.get(args.gcode_flavor or result.dialect)
         flavor, flavor_dialect = out_controller.gcode, out_controller.dialect
     # render everything first, then write: a failure never leaves some files written and others not
-    outputs: list[tuple[str, Callable[[], str | tuple[Path, bytes]]]] = []
+    outputs: list[tuple[str, Callable[[], str | Iterable[str] | tuple[Path, bytes]]]] = []
     if args.json:
-        outputs.append((args.json, lambda: dumps_plan(result.to_json(samples=args.csv))))
+        outputs.append((args.json, lambda: result.json_chunks(samples=args.csv)))
     if args.gcode:
         outputs.append(
             (
                 args.gcode,
                 (lambda: plan_to_klartext(result, decimals=args.decimals, program_name=Path(args.program).name))
                 if args.gcode_flavor == "klartext"
-                else lambda: plan_to_gcode(
+                else lambda: plan_to_gcode_chunks(
                     result,
                     flavor=flavor,
                     dialect=flavor_dialect,
@@ -266,31 +267,50 @@ def run_plan(args: argparse.Namespace) -> int:
             "(see the diagnostics above)"
         )
     elif timing is not None:
-        from trcopt.io.feed_csv import csv_step, render_feed_csv
+        from trcopt.io.feed_csv import csv_step, feed_csv_chunks
 
         if args.csv:
             step = args.csv_step or csv_step(timing.duration)
-            outputs.append((args.csv, lambda: render_feed_csv(timing, step)))
+            outputs.append((args.csv, lambda: feed_csv_chunks(timing, step)))
         if args.png:
             from trcopt.io.plot import render_speed
 
             outputs.append((args.png, lambda: render_speed(timing, args.png)))
+    # every output is written to a temporary file beside it first (streamed, never whole in
+    # memory), and all are put in place only when all are complete: a failure never leaves some
+    # files written and others not
+    staged: list[StagedFile] = []
     try:
         with reporting(terminal_reporter(quiet=args.quiet)), stage("rendering the outputs", len(outputs)) as done:
-            rendered: list[tuple[Path, bytes]] = []
             for name, make in outputs:
-                rendered.append(_as_file(name, make()))
+                content = make()
+                if isinstance(content, (str, tuple)):
+                    path, data = _as_file(name, content)
+                    chunks: Iterable[str | bytes] = (data,)
+                else:
+                    path, chunks = Path(name), content
+                try:
+                    path.parent.mkdir(parents=True, exist_ok=True)
+                except OSError as exc:
+                    err(f"cannot create the folder of {path}: {exc.strerror or exc}", file=str(path), code="OUTPUT")
+                    for st in staged:
+                        st.discard()
+                    return EXIT_USAGE
+                staged.append(stage_chunks(path, chunks))
                 done(1)
     except TrcoptError as exc:  # a non-finite number in the plan JSON (the key named), a cycle too long to sample
+        for st in staged:
+            st.discard()
+        if isinstance(exc, OutputError):
+            raise
         err_exc(exc, args.program)
         return EXIT_USAGE
-    for path, data in rendered:
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            err(f"cannot create the folder of {path}: {exc.strerror or exc}", file=str(path), code="OUTPUT")
-            return EXIT_USAGE
-        write_bytes_atomic(path, data)
+    except BaseException:
+        for st in staged:
+            st.discard()
+        raise
+    for st in staged:
+        st.commit()
     return EXIT_OK if result.ok else EXIT_ALARM
 
 

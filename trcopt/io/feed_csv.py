@@ -9,15 +9,16 @@ from __future__ import annotations
 
 import csv
 import os
+from collections.abc import Iterator
 from io import StringIO
 from pathlib import Path
 
-from trcopt.io.atomic import write_text_atomic
+from trcopt.io.atomic import write_chunks_atomic
 from trcopt.trajectory import Trajectory
 
 __all__ = [
-    "render_feed_csv", "write_feed_csv", "csv_step", "FEED_CSV_COLUMNS", "JERK_CSV_COLUMNS", "CSV_MAX_ROWS",
-    "CSV_FINEST_STEP_S",
+    "render_feed_csv", "feed_csv_chunks", "write_feed_csv", "csv_step", "FEED_CSV_COLUMNS", "JERK_CSV_COLUMNS",
+    "CSV_MAX_ROWS", "CSV_FINEST_STEP_S", "CSV_CHUNK_ROWS",
 ]
 
 CSV_MAX_ROWS = 200_000  # the default step keeps a feed-profile CSV within this many rows (~40 MB)
@@ -51,6 +52,15 @@ def render_feed_csv(trajectory: Trajectory, dt: float = 1e-3) -> str:
     3, jerks in mm/s³ with 1 (columns ``FEED_CSV_COLUMNS``, with ``JERK_CSV_COLUMNS`` inserted
     before ``segment`` when the samples carry the jerk).
     """
+    return "".join(feed_csv_chunks(trajectory, dt))
+
+
+CSV_CHUNK_ROWS = 8192  # rows per piece of :func:`feed_csv_chunks`
+
+
+def feed_csv_chunks(trajectory: Trajectory, dt: float = 1e-3) -> Iterator[str]:
+    """:func:`render_feed_csv` in pieces of text (for a streamed, atomic write,
+    :func:`trcopt.io.atomic.write_chunks_atomic`); the pieces joined are its text."""
     smp = trajectory.sample(dt)
     jerk = smp.j
     head = FEED_CSV_COLUMNS[:-2]
@@ -58,15 +68,22 @@ def render_feed_csv(trajectory: Trajectory, dt: float = 1e-3) -> str:
     out = StringIO()
     w = csv.writer(out)
     w.writerow(columns)
+    t, s, xyz, speed, v, a = (x.tolist() for x in (smp.t, smp.s, smp.xyz, smp.speed, smp.v, smp.a))
+    jj = None if jerk is None else jerk.tolist()
+    segment = smp.segment.tolist()
     for i in range(smp.t.shape[0]):
+        x, vi, ai = xyz[i], v[i], a[i]
         w.writerow([
-            f"{smp.t[i]:.6f}", f"{smp.s[i]:.6f}",
-            *(f"{c:.6f}" for c in smp.xyz[i]), f"{smp.speed[i]:.6f}",
-            *(f"{c:.6f}" for c in smp.v[i]), *(f"{c:.3f}" for c in smp.a[i]),
-            *(() if jerk is None else (f"{c:.1f}" for c in jerk[i])),
-            int(smp.segment[i]), smp.block[i],
+            f"{t[i]:.6f}", f"{s[i]:.6f}", f"{x[0]:.6f}", f"{x[1]:.6f}", f"{x[2]:.6f}", f"{speed[i]:.6f}",
+            f"{vi[0]:.6f}", f"{vi[1]:.6f}", f"{vi[2]:.6f}", f"{ai[0]:.3f}", f"{ai[1]:.3f}", f"{ai[2]:.3f}",
+            *(() if jj is None else (f"{c:.1f}" for c in jj[i])),
+            int(segment[i]), smp.block[i],
         ])
-    return out.getvalue()
+        if i % CSV_CHUNK_ROWS == CSV_CHUNK_ROWS - 1:
+            yield out.getvalue()
+            out.seek(0)
+            out.truncate()
+    yield out.getvalue()
 
 
 def write_feed_csv(trajectory: Trajectory, path: str | os.PathLike[str], dt: float = 1e-3) -> Path:
@@ -77,4 +94,4 @@ def write_feed_csv(trajectory: Trajectory, path: str | os.PathLike[str], dt: flo
     OutputError
         The file cannot be written; an existing file at ``path`` is left untouched.
     """
-    return write_text_atomic(path, render_feed_csv(trajectory, dt))
+    return write_chunks_atomic(path, feed_csv_chunks(trajectory, dt))

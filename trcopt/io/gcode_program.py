@@ -28,6 +28,7 @@ segment on the first block, a word block its source block and line.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -38,7 +39,7 @@ from trcopt.geometry.primitives import Arc, Line
 from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
 from trcopt.path import Segment
 
-__all__ = ["plan_to_gcode", "program_units", "kept_words"]
+__all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words"]
 
 INCH_MM = 25.4
 _END = {"M2", "M02", "M30", "M17", "RET"}
@@ -298,6 +299,38 @@ def plan_to_gcode(
     name, ``rs274`` for ``linuxcnc``) — the program's words are written as they are when it is the
     program's, else only the portable ones; ``decimals``: decimals of coordinates in mm (one more
     in inch); the tolerances are in mm whatever the output unit; the other parameters as
+    :func:`trcopt.io.gcode.toolpath_to_gcode`'s. The text of :func:`plan_to_gcode_chunks` joined.
+    """
+    return "".join(
+        plan_to_gcode_chunks(
+            result, flavor=flavor, dialect=dialect, decimals=decimals, arc_tolerance_mm=arc_tolerance_mm,
+            fit_tolerance_mm=fit_tolerance_mm, poly_output=poly_output, program_name=program_name,
+        )
+    )
+
+
+GCODE_CHUNK_SEGMENTS = 4096  # segments written between two pieces of :func:`plan_to_gcode_chunks`
+
+
+def plan_to_gcode_chunks(
+    result: Any,
+    *,
+    flavor: GcodeFlavor,
+    dialect: str | None = None,
+    decimals: int = 4,
+    arc_tolerance_mm: float = 0.002,
+    fit_tolerance_mm: float = 0.001,
+    poly_output: str = "arcs",
+    program_name: str | None = None,
+) -> Iterator[str]:
+    """:func:`plan_to_gcode` in pieces of text (for a streamed, atomic write:
+    :func:`trcopt.io.atomic.write_chunks_atomic`); the pieces joined are its text.
+
+    ``flavor``: the output controller's (``trcopt.controllers.get(name).gcode``); ``dialect``: the
+    dialect that controller reads (``controllers.get(name).dialect``; by default the flavour's
+    name, ``rs274`` for ``linuxcnc``) — the program's words are written as they are when it is the
+    program's, else only the portable ones; ``decimals``: decimals of coordinates in mm (one more
+    in inch); the tolerances are in mm whatever the output unit; the other parameters as
     :func:`trcopt.io.gcode.toolpath_to_gcode`'s.
     """
     same = (dialect or _FLAVOR_DIALECT.get(flavor.name, flavor.name)) == result.dialect
@@ -333,6 +366,7 @@ def plan_to_gcode(
     pending = _groups(result, flavor, same, lines)
     current: _Group | None = None  # the group of the source line whose motions are being written
     line = 0
+    written, yielded = 0, False
 
     def flush(g: _Group, before: bool, after: bool) -> None:
         for text in g.comments if before else ():
@@ -361,8 +395,13 @@ def plan_to_gcode(
             w.programmed = frozenset("XYZ".index(m.group(1).upper()) for m in _AXIS.finditer(text))
         if seg.span.machine is not None and isinstance(seg.geometry, Line) and flavor.name in _MACHINE_WORDS:
             _write_machine(w, seg, flavor, 1.0 / INCH_MM if inch else 1.0)
-            continue
-        write_segment(w, seg)
+        else:
+            write_segment(w, seg)
+        written += 1
+        if written % GCODE_CHUNK_SEGMENTS == 0 and w.lines:
+            yield "\n".join(w.lines) + "\n"
+            del w.lines[:]
+            yielded = True
     w.programmed = frozenset()
     if current is not None:
         flush(current, False, True)
@@ -374,4 +413,5 @@ def plan_to_gcode(
     else:
         w.lines.append(w.comment(f"stopped by {alarm.format()}"))
         w.lines.append(w.comment(f"no {flavor.end}: the program did not end"))
-    return "\n".join(w.lines) + "\n"
+    if w.lines or not yielded:
+        yield "\n".join(w.lines) + "\n"
