@@ -223,13 +223,17 @@ def assemble(
         inserts[k] = [replace(segs[k + 1], geometry=geom, role=Role.CORNER, t_start_s=None, t_end_s=None)]
         records.append(CornerRecord(k, turn, site.inside, True, eps, kmax, sa + sb, sol, why, kind))
     out: list[Segment] = []
+    origin: list[int] = []  # per new segment, the old one it comes from (a transition: the one before)
     for i, s in enumerate(segs):
         if lam0[i] != 0.0 or lam1[i] != 1.0:
             g = s.geometry
             if (lam1[i] - lam0[i]) * g.plane_length > 1e-7:
                 out.append(s.with_geometry(_trim(g, lam0[i], lam1[i])))  # type: ignore[arg-type]
+                origin.append(i)
         else:
             out.append(s)
+            origin.append(i)
         out.extend(inserts.get(i, ()))
+        origin.extend([i] * len(inserts.get(i, ())))
     records.sort(key=lambda r: r.index)
-    return CornerResult(out, records, 0.0, mode)
+    return CornerResult(out, records, 0.0, mode, origin=origin)

@@ -336,6 +336,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     b_eq = np.array(eq_val)
 
     R = site.radius
+    two_sided = R <= 0.0  # a path without compensation: no material side, no programmed contour
     eps_t = eps * math.cos(0.5 * site.max_turn) * (1.0 - EPS_MARGIN)
     # an iterate stays within ε of the exact path and moves less than ε in a step: farther elements
     # cannot come within R
@@ -381,10 +382,12 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         # both elements at the joints)
         m, e = nearest(exact, pts, near_exact, tree)
         m, e = np.concatenate((m, joint_m)), np.concatenate((e, joint_e))
-        feet, mv = free_directions(exact, e, pts[m], site.material_sign)
+        feet, mv, radial = free_directions(exact, e, pts[m], site.material_sign, two_sided)
         block.append(rows(B0s, m, mv, n))
-        lo.append(np.full(len(m), -np.inf))
-        hi.append(np.sum(mv * feet, axis=1) + eps_t)
+        bound = np.sum(mv * feet, axis=1)
+        # without compensation the spline keeps within ε of the path on both sides
+        lo.append(np.where(radial | (not two_sided), -np.inf, bound - eps_t))
+        hi.append(bound + eps_t)
         A_s = sparse.vstack([A_eq, *block], format="csr")
         ax = A_s @ x_lin
         # sliding along the curve changes only the parametrisation: penalised, so the spline keeps
@@ -427,8 +430,9 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     m, e = prog.near(Q, R, cKDTree(Q))
     need = min(R, float(prog.feet(e, Q[m]).dist.min()) if len(m) else R) - 1e-9
     m, e = nearest(exact, P, near_exact + eps, tree)
-    feet, mv = free_directions(exact, e, P[m], site.material_sign)
-    offset = max(0.0, float(np.sum((P[m] - feet) * mv, axis=1).max(initial=0.0)))
+    feet, mv, _ = free_directions(exact, e, P[m], site.material_sign, two_sided)
+    along = np.sum((P[m] - feet) * mv, axis=1)
+    offset = max(0.0, float((np.abs(along) if two_sided else along).max(initial=0.0)))
     if len(m) < len(P):  # a point farther than that from the exact path
         offset = math.inf
     d1 = np.stack((cx(dense, 1), cy(dense, 1)), axis=1)

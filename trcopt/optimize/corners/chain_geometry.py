@@ -126,12 +126,18 @@ def nearest(E: Elements, pts: np.ndarray, within: float, tree: object) -> tuple[
     return m[first], e[first]
 
 
-def free_directions(E: Elements, e: np.ndarray, P: np.ndarray, material_sign: float) -> tuple[np.ndarray, np.ndarray]:
+def free_directions(
+    E: Elements, e: np.ndarray, P: np.ndarray, material_sign: float, two_sided: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Foot points on the elements ``e`` of ``E`` and unit directions of the distance beyond them
     on the side away from the material (the element normal; radial beyond an end, in the outer
-    wedge of a vertex), pairwise with the points ``P``."""
+    wedge of a vertex), pairwise with the points ``P``, and which of them are radial. With
+    ``two_sided`` (no material: a path without compensation) the direction is radial beyond an end
+    on either side, and the element normal's sign does not matter."""
     ft = E.feet(e, P)
     free = -material_sign * np.stack((-ft.tangent[:, 1], ft.tangent[:, 0]), axis=1)
     off = P - ft.foot
-    radial = ft.at_end & (ft.dist > 1e-9) & (np.sum(off * free, axis=1) > 0.0)
-    return ft.foot, np.where(radial[:, None], off / np.maximum(ft.dist, 1e-300)[:, None], free)
+    radial = ft.at_end & (ft.dist > 1e-9)
+    if not two_sided:
+        radial &= np.sum(off * free, axis=1) > 0.0
+    return ft.foot, np.where(radial[:, None], off / np.maximum(ft.dist, 1e-300)[:, None], free), radial

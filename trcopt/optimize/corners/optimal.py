@@ -31,6 +31,7 @@ from trcopt.optimize.corners.chain import (
 )
 from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
+from trcopt.optimize.corners.free_runs import run_splines
 from trcopt.optimize.corners.qp import CornerBlendProblem, CornerSolution
 from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.selection import fastest
@@ -57,6 +58,8 @@ def optimal_transitions(job: CornerJob) -> CornerResult:
         result = job.unchanged()
     else:
         free = _free_blends(job)
+        if free.blended and job.chains:
+            free = _with_run_splines(job, free)
         if free.blended:
             result = _g2_transitions(replace(job, toolpath=free.segments))
             result = _renumber(free, result)
@@ -78,6 +81,27 @@ def _free_blends(job: CornerJob) -> CornerResult:
     # under jerk limits the corners between lines get curvature-continuous B-spline transitions
     g2 = job.objective is CornerObjective.JERK
     return fillet_path(segs, specs, job.strategy, g2=g2) if specs else job.unchanged()
+
+
+def _with_run_splines(job: CornerJob, circles: CornerResult) -> CornerResult:
+    """The uncompensated path's circular blends ``circles``, or the plan with G2 splines across its
+    runs of CAM chords (:func:`~trcopt.optimize.corners.free_runs.run_splines`) where there are
+    such runs and — with ``select`` — it times faster."""
+    splines = run_splines(job)
+    if splines is None:
+        return circles
+    if not job.select:
+        return splines
+    from trcopt.config import DEFAULT_MACHINE
+    from trcopt.errors import TimingError
+    from trcopt.timing import time_parameterize
+
+    m = job.machine or DEFAULT_MACHINE
+    try:
+        faster = time_parameterize(splines.segments, m).duration < time_parameterize(circles.segments, m).duration
+    except TimingError:  # a plan the timing stage cannot parameterise is not chosen
+        faster = False
+    return splines if faster else circles
 
 
 def _renumber(first: CornerResult, second: CornerResult) -> CornerResult:

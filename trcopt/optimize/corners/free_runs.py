@@ -1,0 +1,114 @@
+"""Smoothing splines across runs of CAM chords on a path without compensation (G40 CAM output).
+
+A CAM program that describes the tool centre itself (G40) is a polyline of short chords. Its
+corners get the largest circular blend within the tolerance (:func:`~.fillet.fillet_path`); a run
+of small-deflection corners (:func:`~.chain.find_chains`) can instead take one G2 spline that stays
+within ε of the polyline on both sides (:func:`~.chain.solve_chain` without a tool radius) and so
+follows the curve the chords approximate rather than turning at every vertex.
+
+:func:`run_splines` builds that plan: circular blends at the corners outside the runs, a spline
+across every run whose spline is feasible; the caller keeps whichever of it and the all-circles
+plan times faster.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+from trcopt.modes import CornerObjective
+from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, assemble
+from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, solve_chain
+from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
+from trcopt.optimize.corners.records import CornerResult
+from trcopt.optimize.corners.strategies import CornerJob
+from trcopt.path import Segment
+from trcopt.progress import iterate
+
+__all__ = ["run_splines"]
+
+
+def run_splines(job: CornerJob) -> CornerResult | None:
+    """``job``'s uncompensated path with a G2 spline across every run of CAM chords whose spline is
+    feasible and circular blends (B-spline corners under the jerk objective) at its other corners;
+    None when the path has no such run."""
+    segs = list(job.toolpath)
+    joints = [k for k in blend_joints(segs) if segs[k].radius == 0.0]
+    plane = [k for k in joints if _flat(segs[k]) and _flat(segs[k + 1])]
+    runs = find_chains(segs, plane, set(joints), ())
+    if not runs:
+        return None
+    in_runs = {k for chain in runs for k in chain.joints}
+    specs = {k: FilletSpec((1.0 - TARGET_MARGIN) * job.tolerance_at(k), job.kind) for k in joints if k not in in_runs}
+    g2 = job.objective is CornerObjective.JERK
+    filleted = fillet_path(segs, specs, job.strategy, g2=g2) if specs else job.unchanged()
+    first = _first_of(filleted.origin or list(range(len(filleted.segments))))
+    # the runs on the filleted path (their joints kept their lines; only the end lines are trimmed)
+    moved = [first[k] for k in sorted(in_runs)]
+    chains = find_chains(filleted.segments, moved, set(moved), ())
+    splines: list[Spline] = []
+    tasks = []
+    for chain in chains:
+        old = [_old_joint(filleted.origin, k) for k in chain.joints]
+        eps = (1.0 - TARGET_MARGIN) * min(job.tolerance_at(k) for k in old)
+        tasks.append((chain, eps))
+    for (chain, eps), sol in zip(tasks, _solutions(tasks, job.workers), strict=True):
+        if sol.ok:
+            splines.append((chain, sol, eps))
+    if not splines:
+        return None
+    out = assemble(filleted.segments, [], {}, {}, job.strategy, chains=splines)
+    origin1 = filleted.origin or list(range(len(filleted.segments)))
+    origin2 = out.origin or list(range(len(out.segments)))
+    records = [replace(r, index=origin1[r.index]) for r in out.corners]
+    corners = filleted.corners + records
+    deviation = max([filleted.max_deviation_mm] + [sol.max_offset for _, sol, _ in splines])
+    on_spline = {k for chain, _, _ in splines for k in chain.joints}
+    # the corners of a run whose spline is infeasible get their circular blends on the result
+    failed = {origin1[k]: _first_of(origin2)[k] for k in moved if k not in on_spline}
+    if failed:
+        specs = {j: FilletSpec((1.0 - TARGET_MARGIN) * job.tolerance_at(k), job.kind) for k, j in failed.items()}
+        last = fillet_path(out.segments, specs, job.strategy, g2=g2)
+        to_exact = [origin1[origin2[i]] for i in range(len(origin2))]
+        corners += [replace(r, index=to_exact[r.index]) for r in last.corners]
+        deviation = max(deviation, last.max_deviation_mm)
+        origin3 = last.origin or list(range(len(last.segments)))
+        out = CornerResult(last.segments, [], 0.0, job.strategy, origin=[to_exact[i] for i in origin3])
+    else:
+        out.origin = [origin1[i] for i in origin2]
+    out.corners = sorted(corners, key=lambda r: r.index)
+    out.max_deviation_mm = deviation
+    return out
+
+
+def _flat(seg: Segment) -> bool:
+    """A feed move in its plane at one applicate, of non-zero plane length."""
+    g = seg.geometry
+    return not seg.is_rapid and g.plane_length > 1e-9 and abs(g.start[2] - g.end[2]) <= 1e-12
+
+
+def _first_of(origin: Sequence[int]) -> dict[int, int]:
+    """For every old segment, the first new segment that comes from it."""
+    first: dict[int, int] = {}
+    for j, i in enumerate(origin):
+        first.setdefault(i, j)
+    return first
+
+
+def _old_joint(origin: Sequence[int] | None, k: int) -> int:
+    """The exact path's joint of joint ``k`` of a blended path (``origin``: its segments' sources)."""
+    return k if origin is None else origin[k]
+
+
+def _solve(task: tuple[ChainSite, float]) -> ChainSolution:
+    return solve_chain(*task)
+
+
+def _solutions(tasks: list[tuple[ChainSite, float]], workers: int) -> list[ChainSolution]:
+    """The spline of every run, in order: in ``workers`` processes when there are several."""
+    if workers > 1 and len(tasks) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
+            return list(iterate(pool.map(_solve, tasks), "corner splines", len(tasks)))
+    return list(iterate(map(_solve, tasks), "corner splines", len(tasks)))
