@@ -171,42 +171,36 @@ class PlanResult:
         feed profile written beside it, if any."""
         from trcopt.io.plan_json import plan_json
 
-        toolpath = self.toolpath
-        timing_json = None
-        if self.timing is not None:
-            toolpath = self.timing.segments_with_times()
-            timing_json = self.timing.to_json(samples=samples)
-        return plan_json(
-            program=self.program,
-            dialect=self.dialect,
-            diagnostics=self.diagnostics,
-            programmed=self.programmed,
-            toolpath=toolpath,
-            timing=timing_json,
-            extra=self.extra,
-        )
+        return plan_json(**self._json_arguments(samples, streamed=False))
 
     def json_chunks(self, samples: str | None = None) -> Iterator[str]:
         """The text of :func:`trcopt.io.plan_json.dumps_plan` of :meth:`to_json` in pieces, one
         ``<segment>`` at a time (never the whole plan dictionary or text in memory); for
         :func:`trcopt.io.atomic.write_chunks_atomic`. Raises ``PlanJsonError`` as ``dumps_plan``."""
-        from trcopt.io.plan_json import TimedSegments, plan_json_chunks
+        from trcopt.io.plan_json import plan_json_chunks
+
+        return plan_json_chunks(**self._json_arguments(samples, streamed=True))
+
+    def _json_arguments(self, samples: str | None, streamed: bool) -> dict[str, Any]:
+        """The arguments of :func:`~trcopt.io.plan_json.plan_json`: the tool path with its times
+        (``streamed``: a lazy sequence of the timed segments, not a list of them)."""
+        from trcopt.io.plan_json import TimedSegments
 
         toolpath: Sequence[Segment] = self.toolpath
         timing_json = None
         if self.timing is not None:
-            times = getattr(self.timing, "segment_times", None)
+            times = getattr(self.timing, "segment_times", None) if streamed else None
             toolpath = TimedSegments(self.timing.segments, *times()) if times else self.timing.segments_with_times()
             timing_json = self.timing.to_json(samples=samples)
-        return plan_json_chunks(
-            program=self.program,
-            dialect=self.dialect,
-            diagnostics=self.diagnostics,
-            programmed=self.programmed,
-            toolpath=toolpath,
-            timing=timing_json,
-            extra=self.extra,
-        )
+        return {
+            "program": self.program,
+            "dialect": self.dialect,
+            "diagnostics": self.diagnostics,
+            "programmed": self.programmed,
+            "toolpath": toolpath,
+            "timing": timing_json,
+            "extra": self.extra,
+        }
 
     def write_json(self, path: str | Path, samples: str | None = None) -> Path:
         """Write the plan JSON (:meth:`json_chunks`) to ``path`` atomically, streamed."""

@@ -225,55 +225,27 @@ class PathArrays:
 
     def eval(self, iseg: np.ndarray, s_local: np.ndarray, order: int) -> np.ndarray:
         """Position/derivative of order 0..2 in xyz at local arc length ``s_local`` of ``iseg``."""
-        n = s_local.shape[0]
-        uvw = np.zeros((n, 3))
-        kind = self.kind[iseg]
-        m = kind == 0
-        if np.any(m):
-            ii = iseg[m]
-            if order == 0:
-                uvw[m] = self.p0[ii] + s_local[m, None] * self.d[ii]
-            elif order == 1:
-                uvw[m] = self.d[ii]
-        m = kind == 1
-        if np.any(m):
-            ii = iseg[m]
-            cu, cv, r, a0, da, w0, dw = self.arc[ii].T
-            sl = s_local[m]
-            a = a0 + sl * da
-            ca, sa = np.cos(a), np.sin(a)
-            if order == 0:
-                uvw[m] = np.stack((cu + r * ca, cv + r * sa, w0 + dw * sl), axis=1)
-            elif order == 1:
-                uvw[m] = np.stack((-r * da * sa, r * da * ca, dw), axis=1)
-            else:
-                k = r * da * da
-                uvw[m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
-        out = np.empty_like(uvw)
-        rows = np.arange(n)[:, None]
-        out[rows, self.perm[iseg]] = uvw
-        m = kind == 2
-        if np.any(m):
-            js = np.nonzero(m)[0]
-            for curves in self._curves:
-                curves.eval_into(out, js, iseg[js], s_local[js], order)
-        return out
-
+        return self.eval_orders(iseg, s_local, (order,))[0]
 
     def eval012(self, iseg: np.ndarray, s_local: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(eval(…, 0), eval(…, 1), eval(…, 2))`` in one pass: the same values, the masks, angles
-        and their sines and cosines computed once."""
-        if self.has_poly:
-            return self.eval(iseg, s_local, 0), self.eval(iseg, s_local, 1), self.eval(iseg, s_local, 2)
+        """``(eval(…, 0), eval(…, 1), eval(…, 2))`` in one pass (the masks, angles and their sines
+        and cosines computed once)."""
+        p, d1, d2 = self.eval_orders(iseg, s_local, (0, 1, 2))
+        return p, d1, d2
+
+    def eval_orders(self, iseg: np.ndarray, s_local: np.ndarray, orders: Sequence[int]) -> list[np.ndarray]:
+        """The derivatives of the given ``orders`` (0..2) in xyz at local arc lengths ``s_local`` of
+        the segments ``iseg``, one n×3 array per order."""
         n = s_local.shape[0]
-        p, d1, d2 = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+        uvw = {o: np.zeros((n, 3)) for o in orders}
         kind = self.kind[iseg]
         m = kind == 0
         if np.any(m):
             ii = iseg[m]
-            d = self.d[ii]
-            p[m] = self.p0[ii] + s_local[m, None] * d
-            d1[m] = d
+            if 0 in uvw:
+                uvw[0][m] = self.p0[ii] + s_local[m, None] * self.d[ii]
+            if 1 in uvw:
+                uvw[1][m] = self.d[ii]
         m = kind == 1
         if np.any(m):
             ii = iseg[m]
@@ -281,18 +253,24 @@ class PathArrays:
             sl = s_local[m]
             a = a0 + sl * da
             ca, sa = np.cos(a), np.sin(a)
-            p[m] = np.stack((cu + r * ca, cv + r * sa, w0 + dw * sl), axis=1)
-            d1[m] = np.stack((-r * da * sa, r * da * ca, dw), axis=1)
-            k = r * da * da
-            d2[m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
+            if 0 in uvw:
+                uvw[0][m] = np.stack((cu + r * ca, cv + r * sa, w0 + dw * sl), axis=1)
+            if 1 in uvw:
+                uvw[1][m] = np.stack((-r * da * sa, r * da * ca, dw), axis=1)
+            if 2 in uvw:
+                k = r * da * da
+                uvw[2][m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
         rows = np.arange(n)[:, None]
         cols = self.perm[iseg]
         out = []
-        for uvw in (p, d1, d2):
-            o = np.empty_like(uvw)
-            o[rows, cols] = uvw
-            out.append(o)
-        return out[0], out[1], out[2]
+        curves = np.nonzero(kind == 2)[0]
+        for o in orders:
+            res = np.empty_like(uvw[o])
+            res[rows, cols] = uvw[o]
+            for group in self._curves if len(curves) else ():
+                group.eval_into(res, curves, iseg[curves], s_local[curves], o)
+            out.append(res)
+        return out
 
 
 class _Concatenated:
