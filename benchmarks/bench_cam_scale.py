@@ -10,7 +10,8 @@ chords, c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm 
 written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
 the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
 stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, modes ``arc`` and ``optimal``,
-ε = 0.01 mm) gives the corners per second and its peak Python memory (tracemalloc); up to
+ε = 0.01 mm) gives the corners per second; every row runs in a fresh process whose peak resident
+memory (plan and corner stage) is reported; up to
 ``--timing-up-to`` chords the acceleration-limited cycle times of both paths are added. The tool
 enters and leaves from outside the contour (X = 50·c).
 """
@@ -19,9 +20,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import subprocess
 import sys
 import time
-import tracemalloc
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,16 +53,20 @@ def contour(chords: int, compensated: bool) -> str:
 
 
 def row(chords: int, compensated: bool, with_timing: bool, mode: str = "arc") -> str:
+    """One table row, measured in this process (which should be fresh: its peak RSS is reported)."""
+    import resource
+
     text = contour(chords, compensated)
     t0 = time.perf_counter()
     exact = plan(text, file="cam.ngc", options=PlanOptions(corners="exact", timing=False, verify=True))
     t_exact = time.perf_counter() - t0
-    tracemalloc.start()
+    import clarabel  # noqa: F401  (imports outside the measurement)
+    import scipy.interpolate  # noqa: F401
+    import toppra  # noqa: F401
+
     t0 = time.perf_counter()
     blended = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=0.01, mode=mode)
     t_corners = time.perf_counter() - t0
-    peak = tracemalloc.get_traced_memory()[1] / 2**20
-    tracemalloc.stop()
     n = blended.blended
     cycle = ""
     if with_timing:
@@ -70,10 +75,11 @@ def row(chords: int, compensated: bool, with_timing: bool, mode: str = "arc") ->
         cycle = f"{t_ex:.3f} | {t_bl:.3f} | {t_ex / t_bl:.2f}"
     else:
         cycle = "– | – | –"
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     kind = "G41.1 D2" if compensated else "G40"
     return (
-        f"| {chords} | {kind} | {mode} | {t_exact:.2f} | {n} | {t_corners:.3f} | {n / max(t_corners, 1e-9):,.0f} | "
-        f"{peak:.1f} | {blended.max_deviation_mm:.4f} | {cycle} |"
+        f"| {chords:,} | {kind} | {mode} | {t_exact:.2f} | {n:,} | {t_corners:.3f} | {n / max(t_corners, 1e-9):,.0f} | "
+        f"{peak:.0f} | {blended.max_deviation_mm:.4f} | {cycle} |"
     )
 
 
@@ -84,9 +90,14 @@ def main(argv: list[str]) -> None:
     parser.add_argument("--optimal-up-to", type=int, default=10000, help="run optimal up to this many chords")
     parser.add_argument("--optimal-compensated-up-to", type=int, default=1000,
                         help="run optimal on the compensated contour up to this many chords")
+    parser.add_argument("--row", help=argparse.SUPPRESS)  # chords,compensated,timing,mode: one row (a child)
     args = parser.parse_args(argv)
+    if args.row:
+        c, comp, timing, mode = args.row.split(",")
+        print(row(int(c), comp == "1", timing == "1", mode), flush=True)
+        return
     print("| chords | path | mode | exact plan s (baseline, no timing) | corners blended | corner stage s | corners/s "
-          "| corner stage peak MiB | max deviation mm | exact cycle s | blended cycle s | speed-up |")  # fmt: skip
+          "| process peak RSS MiB | max deviation mm | exact cycle s | blended cycle s | speed-up |")  # fmt: skip
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for chords in (int(x) for x in args.sizes.split(",")):
         for compensated in (False, True):
@@ -94,7 +105,11 @@ def main(argv: list[str]) -> None:
                 cap = args.optimal_compensated_up_to if compensated else args.optimal_up_to
                 if mode == "optimal" and chords > cap:
                     continue
-                print(row(chords, compensated, chords <= args.timing_up_to, mode), flush=True)
+                # every row in a fresh process: its peak resident memory is that row's alone
+                spec = f"{chords},{int(compensated)},{int(chords <= args.timing_up_to)},{mode}"
+                out = subprocess.run([sys.executable, __file__, "--row", spec], capture_output=True, text=True)
+                failed = f"| {chords:,} | {mode} | failed: {out.stderr.strip()[-200:]} |"
+                print(out.stdout.strip() or failed, flush=True)
 
 
 if __name__ == "__main__":

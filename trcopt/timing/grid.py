@@ -103,7 +103,10 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine
         grid = _graded(length, min(h0, hcap), ramp, hcap)
         return grid, rate
     grid = _curve_start_grid(ev, h0, ramp)
-    _, grid, turn, excess = _refined(lambda _k, x, order: ev.eval(x, order), np.zeros(len(grid), np.int64), grid)
+    floor = np.array([DKAPPA_REL * amin / max(feed, 1e-9) ** 2])
+    _, grid, turn, excess = _refined(
+        lambda _k, x, order: ev.eval(x, order), np.zeros(len(grid), np.int64), grid, floor
+    )
     return grid, _rates(grid, turn, excess)
 
 
@@ -120,7 +123,9 @@ def curve_grids(
         ramp = float(feeds[k]) ** 2 / (2.0 * amin)
         grids.append(_curve_start_grid(ev, min(ramp / RAMP_POINTS, ev.length / 4.0), ramp))
     seg = np.repeat(np.asarray(ks, dtype=np.int64), [len(g) for g in grids])
-    seg, s, turn, excess = _refined(arrays.eval, seg, np.concatenate(grids))
+    floor = np.zeros(arrays.n)
+    floor[list(ks)] = DKAPPA_REL * amin / np.maximum(np.asarray(feeds, float)[list(ks)], 1e-9) ** 2
+    seg, s, turn, excess = _refined(arrays.eval, seg, np.concatenate(grids), floor)
     cuts = np.nonzero(seg[1:] != seg[:-1])[0] + 1
     out = {}
     for a, b in zip(np.concatenate(([0], cuts)), np.concatenate((cuts, [len(s)])), strict=True):
@@ -163,12 +168,15 @@ Evaluate = Callable[[np.ndarray, np.ndarray, int], np.ndarray]
 
 
 def _refined(
-    evaluate: Evaluate, seg: np.ndarray, s: np.ndarray, rounds: int = 24
+    evaluate: Evaluate, seg: np.ndarray, s: np.ndarray, floor: np.ndarray, rounds: int = 24
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The grid points ``(seg, s)`` (curve index and local arc length, sorted by curve then s) with
     intervals halved until the curve's tangent turns by at most ``DTHETA_ACC`` across each (the
     curvature of a sharp transition peaks within a few µm, where an even spacing leaves whole
-    radians between two grid points) and its curvature changes by at most ``DKAPPA_REL``; with, per
+    radians between two grid points) and its curvature changes by at most ``DKAPPA_REL`` of its value
+    or ``floor[curve]`` (1/mm: ``DKAPPA_REL·a/F²``, a change of the centripetal acceleration at the
+    feed F of DKAPPA_REL of the acceleration limit a — near zero curvature a relative change means
+    nothing); with, per
     interval (between consecutive points, also across two curves: unused there), the turn (rad) and
     the factor by which the curvature inside it may exceed the larger at its ends."""
     for round_ in range(rounds + 1):
@@ -183,7 +191,7 @@ def _refined(
         # where the curvature changes by more than DKAPPA_REL of its value across an interval, the
         # acceleration q″·ṡ² between two grid points is not bounded by the ends
         split = np.nonzero(
-            same & ((turn > DTHETA_ACC) | (hi - lo > DKAPPA_REL * hi + 1e-6)) & (np.diff(s) > 1e-7)
+            same & ((turn > DTHETA_ACC) | (hi - lo > DKAPPA_REL * hi + floor[seg[:-1]])) & (np.diff(s) > 1e-7)
         )[0]
         if not len(split) or round_ == rounds:
             break

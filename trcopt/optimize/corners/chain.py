@@ -61,6 +61,7 @@ from trcopt.optimize.convex import solve_qp
 from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
 from trcopt.optimize.corners.chain_spline import basis, piece, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
+from trcopt.path import Role
 from trcopt.verify.model import bbox
 from trcopt.verify.nearest import ElementSet
 
@@ -132,20 +133,26 @@ class ChainSolution:
 
 
 def find_chains(
-    toolpath: Sequence, joints: Sequence[int], all_joints: set[int], contour: Sequence[Line | Arc] | PartContour
+    toolpath: Sequence,
+    joints: Sequence[int],
+    all_joints: set[int],
+    contour: Sequence[Line | Arc] | PartContour,
+    *,
+    compensated: bool = True,
 ) -> list[ChainSite]:
     """Maximal runs of ≥ CHAIN_MIN_CORNERS consecutive joints (of ``joints``, sorted) of deflection
     ≤ CHAIN_MAX_TURN_DEG joined by lines ≤ CHAIN_MAX_CHORD_MM, split into runs of at most
     CHAIN_MAX_CORNERS (neighbouring runs share a chord, half each). ``all_joints`` are every corner site
     (a neighbouring per-corner transition owns half of a shared element); ``contour`` the
-    programmed part contour (plane elements)."""
+    programmed part contour (plane elements). Short arcs of small sweep inside a run are taken
+    from the compensated segments (``compensated``) or from the others only."""
     max_turn = math.radians(CHAIN_MAX_TURN_DEG)
     small = {k for k in joints if abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= max_turn}
     # the short arcs of small sweep between the chords (the transition circles around the outside
     # vertices of a compensated CAM contour, or short programmed arcs): their tangent joints join
     # the run, and the spline replaces the arc with the chords around it
     for i in range(1, len(toolpath) - 1):
-        if _small_arc(toolpath, i) and not ({i - 1, i} & set(all_joints)):
+        if _small_arc(toolpath, i, compensated) and not ({i - 1, i} & set(all_joints)):
             if all(
                 abs(joint_turn(toolpath[k].geometry, toolpath[k + 1].geometry)) <= TANGENT_MAX_RAD for k in (i - 1, i)
             ):
@@ -176,12 +183,19 @@ def _chord(toolpath: Sequence, i: int) -> bool:
         return False
     if isinstance(g, Line):
         return g.plane_length <= CHAIN_MAX_CHORD_MM
-    return _small_arc(toolpath, i)
+    return _small_arc(toolpath, i, seg.radius > 0)
 
 
-def _small_arc(toolpath: Sequence, i: int) -> bool:
+def _small_arc(toolpath: Sequence, i: int, compensated: bool | None = None) -> bool:
+    """A short arc of small sweep; with ``compensated`` True one of a compensated path (its
+    transition arcs included), False one of an uncompensated path that was programmed (not a blend
+    trcopt inserted: the tolerance is measured from the programmed path)."""
     seg = toolpath[i]
     g = seg.geometry
+    if compensated is not None and (seg.radius > 0) != compensated:
+        return False
+    if compensated is False and seg.role is Role.CORNER:
+        return False
     return (
         isinstance(g, Arc)
         and not seg.is_rapid

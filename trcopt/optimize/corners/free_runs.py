@@ -13,12 +13,14 @@ plan times faster.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 
 from trcopt.modes import CornerObjective
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, assemble
 from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, solve_chain
+from trcopt.optimize.corners.curves import joint_turn
 from trcopt.optimize.corners.fillet import FilletSpec, blend_joints, fillet_path
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
@@ -35,7 +37,9 @@ def run_splines(job: CornerJob) -> CornerResult | None:
     segs = list(job.toolpath)
     joints = [k for k in blend_joints(segs) if segs[k].radius == 0.0]
     plane = [k for k in joints if _flat(segs[k]) and _flat(segs[k + 1])]
-    runs = find_chains(segs, plane, set(joints), ())
+    runs = find_chains(segs, plane, set(joints), (), compensated=False)
+    if job.objective is CornerObjective.CURVATURE:
+        runs = [chain for chain in runs if _circles_limit_speed(job, segs, chain)]
     if not runs:
         return None
     in_runs = {k for chain in runs for k in chain.joints}
@@ -45,7 +49,7 @@ def run_splines(job: CornerJob) -> CornerResult | None:
     first = _first_of(filleted.origin or list(range(len(filleted.segments))))
     # the runs on the filleted path (their joints kept their lines; only the end lines are trimmed)
     moved = [first[k] for k in sorted(in_runs)]
-    chains = find_chains(filleted.segments, moved, set(moved), ())
+    chains = find_chains(filleted.segments, moved, set(moved), (), compensated=False)
     splines: list[Spline] = []
     tasks = []
     for chain in chains:
@@ -79,6 +83,34 @@ def run_splines(job: CornerJob) -> CornerResult | None:
     out.corners = sorted(corners, key=lambda r: r.index)
     out.max_deviation_mm = deviation
     return out
+
+
+def _circles_limit_speed(job: CornerJob, segs: Sequence[Segment], chain: ChainSite) -> bool:
+    """Whether a spline across ``chain`` could carry more speed than the circular blends at its
+    joints under acceleration limits: the largest circle within ε at a joint turning by θ between
+    chords of lengths a and b has the radius min(ε·cos(θ/2)/(1 − cos(θ/2)), min(a, b)/2 / tan(θ/2));
+    the spline's peak curvature is at least the run's net turn over its length. Only where a
+    circle is both more curved than that and slower than the feed can the spline gain."""
+    from trcopt.config import DEFAULT_MACHINE
+
+    m = job.machine or DEFAULT_MACHINE
+    a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
+    theta_sum, worst = 0.0, 0.0
+    for k in chain.joints:
+        a, b = segs[k].geometry, segs[k + 1].geometry
+        theta = abs(joint_turn(a, b))
+        theta_sum += theta
+        if theta <= 1e-12:
+            continue
+        c = math.cos(0.5 * theta)
+        eps = job.tolerance_at(k)
+        r = min(eps * c / max(1.0 - c, 1e-300), 0.5 * min(a.plane_length, b.plane_length) / math.tan(0.5 * theta))
+        feed = segs[k].feed_mm_s or m.rapid_mm_s
+        kappa = 1.0 / max(r, 1e-300)
+        if kappa * feed * feed > a_lat:  # the circle is slower than the feed
+            worst = max(worst, kappa)
+    length = sum(e.plane_length for e in chain.full)
+    return worst > 0.0 and (length <= 0.0 or worst > theta_sum / length)
 
 
 def _flat(seg: Segment) -> bool:
