@@ -17,6 +17,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 
+import numpy as np
+
 from trcopt.modes import CornerObjective
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, assemble
 from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, solve_chain
@@ -64,7 +66,8 @@ def run_splines(job: CornerJob) -> CornerResult | None:
     out = assemble(filleted.segments, [], {}, {}, job.strategy, chains=splines)
     origin1 = filleted.origin or list(range(len(filleted.segments)))
     origin2 = out.origin or list(range(len(out.segments)))
-    records = [replace(r, index=origin1[r.index]) for r in out.corners]
+    measured = _distances(splines)
+    records = [replace(r, index=origin1[r.index], **measured.get(r.index, {})) for r in out.corners]
     corners = filleted.corners + records
     deviation = max([filleted.max_deviation_mm] + [sol.max_offset for _, sol, _ in splines])
     on_spline = {k for chain, _, _ in splines for k in chain.joints}
@@ -111,6 +114,22 @@ def _circles_limit_speed(job: CornerJob, segs: Sequence[Segment], chain: ChainSi
             worst = max(worst, kappa)
     length = sum(e.plane_length for e in chain.full)
     return worst > 0.0 and (length <= 0.0 or worst > theta_sum / length)
+
+
+def _distances(splines: list[Spline]) -> dict[int, dict[str, float]]:
+    """Per joint on a spline: the distance of the spline from the polyline (``contour_mm``, the
+    largest over the run, measured on the spline's dense samples) and from the run's vertices
+    (``vertex_mm``, each vertex to the spline sampled every 2 µm)."""
+    from scipy.spatial import cKDTree
+
+    out: dict[int, dict[str, float]] = {}
+    for chain, sol, _ in splines:
+        pts = np.vstack([p.points_at(np.linspace(0.0, p.length, int(p.length / 2e-3) + 2))[:, :2] for p in sol.pieces])
+        vertices = np.array([e.point2(1.0) for e in chain.full[:-1]], float)
+        far = cKDTree(pts).query(vertices)[0]
+        for k, d in zip(chain.joints, far, strict=True):
+            out[k] = {"vertex_mm": float(d), "contour_mm": float(sol.max_offset)}
+    return out
 
 
 def _flat(seg: Segment) -> bool:
