@@ -9,7 +9,7 @@ defines it in its own folder (``trcopt.controllers.heidenhain.profile``).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 
 from trcopt.codes import Code
@@ -19,7 +19,7 @@ from trcopt.errors import Diagnostic, Severity
 from trcopt.nc.model import Move
 from trcopt.path import Segment
 
-__all__ = ["ControllerProfile", "map_diagnostic", "compensate_with_profile"]
+__all__ = ["ControllerProfile", "map_diagnostic", "mapped_stream", "compensate_with_profile"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -68,11 +68,23 @@ def compensate_with_profile(
     """
     out = diagnostics if diagnostics is not None else []
     raw: list[Diagnostic] = []
-    for seg in compensate(moves, profile.engine_settings(settings), raw, complete=complete):
+    engine = compensate(moves, profile.engine_settings(settings), raw, complete=complete)
+    yield from mapped_stream(engine, raw, out, lambda d: map_diagnostic(profile, d))
+
+
+def mapped_stream(
+    segments: Iterable[Segment],
+    raw: list[Diagnostic],
+    out: list[Diagnostic],
+    mapper: Callable[[Diagnostic], Diagnostic],
+) -> Iterator[Segment]:
+    """``segments`` (an engine's stream) while the diagnostics the engine appends to ``raw`` move
+    to ``out`` through ``mapper``, in order; the stream stops at the first mapped error."""
+    for seg in segments:
         while raw:
-            mapped = map_diagnostic(profile, raw.pop(0))
+            mapped = mapper(raw.pop(0))
             out.append(mapped)
             if mapped.severity is Severity.ERROR:
                 return
         yield seg
-    out.extend(map_diagnostic(profile, d) for d in raw)
+    out.extend(mapper(d) for d in raw)

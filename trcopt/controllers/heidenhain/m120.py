@@ -27,7 +27,7 @@ from trcopt.compensation.elements import Elem, Piece
 from trcopt.compensation.engine import Compensator
 from trcopt.compensation.junctions import JunctionResolver
 from trcopt.compensation.lookahead import Join, Pending, Window
-from trcopt.compensation.profiles import ControllerProfile, map_diagnostic
+from trcopt.compensation.profiles import ControllerProfile, map_diagnostic, mapped_stream
 from trcopt.config import TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.nc.model import Move
@@ -115,11 +115,4 @@ def compensate_heidenhain(
         return map_diagnostic(profile, d)
 
     engine = _Compensator(profile.engine_settings(settings), raw, complete)
-    for seg in engine.run(watched()):
-        while raw:
-            d = mapped(raw.pop(0))
-            out.append(d)
-            if d.severity is Severity.ERROR:
-                return
-        yield seg
-    out.extend(mapped(d) for d in raw)
+    yield from mapped_stream(engine.run(watched()), raw, out, mapped)
