@@ -29,10 +29,6 @@ class QPResult:
     status: str
     iterations: int
 
-    @property
-    def ok(self) -> bool:
-        return self.x is not None
-
 
 def solve_qp(P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, max_iter: int = 200) -> QPResult:
     """The minimiser of ``½xᵀPx + qᵀx`` subject to ``lo ≤ Ax ≤ hi`` (``P`` symmetric positive

@@ -51,7 +51,6 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -63,7 +62,6 @@ from trcopt.optimize.corners.chain_spline import basis, piece, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.path import Role
 from trcopt.verify.model import bbox
-from trcopt.verify.nearest import ElementSet
 
 if TYPE_CHECKING:
     pass
@@ -113,11 +111,6 @@ class ChainSite:
     material_sign: float
     w: float
     max_turn: float  # rad, largest deflection at a joint (the arcs inside the run are smooth)
-
-    @cached_property
-    def programmed_set(self) -> ElementSet:
-        """:attr:`programmed` as an :class:`~trcopt.verify.nearest.ElementSet` (batched distances)."""
-        return ElementSet(self.programmed)
 
 
 @dataclass
