@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from trcopt.geometry import Arc, Line
+from trcopt.geometry import Arc, Line, Poly
+from trcopt.geometry.poly import hermite_pieces
 from trcopt.optimize.corners.chain_geometry import Elements
 from trcopt.path import Role, Segment
 
@@ -162,15 +163,40 @@ def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, rad
 
 
 def _path_samples(segments: Sequence[Segment], step: float) -> np.ndarray:
+    """Points of ``segments`` every ``step`` mm at most (in no particular order), n×2."""
     pts = []
+    curves: dict[bool, list[Poly]] = {True: [], False: []}
     for s in segments:
         g = s.geometry
-        if isinstance(g, Line | Arc) and g.plane_length > 0:
-            pts.append(element_samples(g, step)[0])
-            continue
-        n = max(2, int(math.ceil(g.length / step)) + 1)
-        pts.append(g.points_at(np.linspace(0.0, g.length, n))[:, :2])  # type: ignore[union-attr]
+        if isinstance(g, Line | Arc):
+            if g.plane_length > 0:
+                pts.append(element_samples(g, step)[0])
+            else:
+                pts.append(np.array([g.point2(0.0)]))
+        else:
+            curves[g.curvatures is not None].append(g)
+    pts += [_curve_samples(group, step) for group in curves.values() if group]
     return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def _curve_samples(curves: Sequence[Poly], step: float) -> np.ndarray:
+    """Points of Poly curves (all with or all without curvatures) every ``step`` mm at most, n×2:
+    their samples in one set of arrays, evaluated in one pass."""
+    parts = [g.arrays() for g in curves]
+    lengths = np.array([p[0][-1] for p in parts])
+    sizes = np.array([len(p[0]) for p in parts])
+    offset = np.concatenate(([0.0], np.cumsum(lengths)))[:-1]
+    first = np.concatenate(([0], np.cumsum(sizes)))[:-1]
+    cum = np.concatenate([p[0] for p in parts]) + np.repeat(offset, sizes)
+    K = None if parts[0][3] is None else np.concatenate([p[3] for p in parts])
+    arrays = (cum, np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts]), K)
+    counts = np.maximum(2, np.ceil(lengths / step).astype(int) + 1)
+    member = np.repeat(np.arange(len(curves)), counts)
+    j = np.arange(int(counts.sum())) - np.repeat(np.concatenate(([0], np.cumsum(counts)[:-1])), counts)
+    s = offset[member] + lengths[member] * (j / (counts - 1)[member])
+    i = np.searchsorted(cum, s, side="right") - 1
+    i = np.clip(i, first[member], (first + sizes - 2)[member])
+    return hermite_pieces(arrays, i, s, 0)[:, :2]
 
 
 def _boxes(geoms: Sequence[Line | Arc | object]) -> np.ndarray:

@@ -58,7 +58,7 @@ import numpy as np
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.optimize.convex import solve_qp
 from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
-from trcopt.optimize.corners.chain_spline import basis, piece, ppoly, rows
+from trcopt.optimize.corners.chain_spline import basis, pieces, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.path import Role
 from trcopt.verify.model import bbox
@@ -454,5 +454,5 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         msg = f"{msg}; {why}"
     cuts = np.concatenate(([0.0], cum[1:-1], [S]))
     pp = ppoly(cx, cy) if ok else None
-    pieces = [piece(pp, a, b, site.w) for a, b in zip(cuts, cuts[1:], strict=False)] if pp is not None else []
-    return ChainSolution(ok, msg, pieces, float(kappa.max()), clear, offset, steps, time.perf_counter() - t0)
+    polys = pieces(pp, cuts, site.w) if pp is not None else []
+    return ChainSolution(ok, msg, polys, float(kappa.max()), clear, offset, steps, time.perf_counter() - t0)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from itertools import chain
 
 import numpy as np
 
@@ -103,10 +104,10 @@ class Elements:
             return np.zeros(0, int), np.zeros(0, int)
         kd = tree if tree is not None else cKDTree(pts)
         lists = kd.query_ball_point(self.mid, self.reach + within)  # type: ignore[attr-defined]
-        counts = np.fromiter((len(x) for x in lists), int, self.n)
+        counts = np.fromiter(map(len, lists), int, self.n)
         if not counts.sum():
             return np.zeros(0, int), np.zeros(0, int)
-        m = np.fromiter((i for x in lists for i in x), int, int(counts.sum()))
+        m = np.fromiter(chain.from_iterable(lists), int, int(counts.sum()))
         e = np.repeat(np.arange(self.n), counts)
         ok = self.feet(e, pts[m]).dist <= within
         return m[ok], e[ok]

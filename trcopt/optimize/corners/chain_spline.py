@@ -3,13 +3,12 @@
 * :func:`basis` — the sparse matrix of a derivative of the cubic B-spline basis at many points (the
   design matrix of the spline, times the sparse difference matrices of its derivatives);
 * :func:`rows` — constraint rows ``v·C(s)`` on the control points from rows of a basis;
-* :func:`ppoly` / :func:`piece` — the solved spline between two parameters as a
-  curvature-continuous :class:`~trcopt.geometry.Poly`, sampled with vectorised evaluation.
+* :func:`ppoly` / :func:`pieces` — the solved spline between consecutive parameters as
+  curvature-continuous :class:`~trcopt.geometry.Poly` curves, sampled with vectorised evaluation.
 """
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -20,7 +19,7 @@ from trcopt.geometry.poly import CHORD_TOL_MM
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline
 
-__all__ = ["basis", "piece", "ppoly", "rows"]
+__all__ = ["basis", "pieces", "ppoly", "rows"]
 
 
 def _derivative(knots: np.ndarray, k: int, n: int) -> Any:
@@ -65,58 +64,95 @@ def rows(B: Any, m: np.ndarray, vecs: np.ndarray, n: int) -> Any:
 _GL5_X, _GL5_W = np.polynomial.legendre.leggauss(5)
 
 
-def piece(pp: tuple[np.ndarray, np.ndarray, np.ndarray], a: float, b: float, w: float) -> Poly:
-    """The spline between its parameters ``a`` and ``b`` as a curvature-continuous Poly: samples
-    spaced for a chord error ≤ CHORD_TOL_MM / 2 at the piece's largest curvature (at least 8) and
-    at every knot and knot-span middle,
-    true arc length by 5-point Gauss–Legendre per interval (``pp``: breakpoints and per-interval
-    cubic coefficients of x(s) and y(s), highest power first)."""
+def _ev(pp: tuple[np.ndarray, np.ndarray, np.ndarray], s: np.ndarray, nu: int) -> np.ndarray:
+    """The ``nu``-th derivative (0–2) of the spline (x, y) at the parameters ``s`` (n×2)."""
+    brk, cx, cy = pp
+    i = np.clip(np.searchsorted(brk, s, side="right") - 1, 0, len(brk) - 2)
+    t = s - brk[i]
+    out = []
+    for c in (cx, cy):
+        c3, c2, c1, c0 = c[0, i], c[1, i], c[2, i], c[3, i]
+        if nu == 0:
+            out.append(((c3 * t + c2) * t + c1) * t + c0)
+        elif nu == 1:
+            out.append((3.0 * c3 * t + 2.0 * c2) * t + c1)
+        else:
+            out.append(6.0 * c3 * t + 2.0 * c2)
+    return np.stack(out, axis=1)
 
-    def ev(s: np.ndarray, nu: int) -> np.ndarray:
-        brk, cx, cy = pp
-        i = np.clip(np.searchsorted(brk, s, side="right") - 1, 0, len(brk) - 2)
-        t = s - brk[i]
-        out = []
-        for c in (cx, cy):
-            c3, c2, c1, c0 = c[0, i], c[1, i], c[2, i], c[3, i]
-            out.append(
-                (((c3 * t + c2) * t + c1) * t + c0, (3.0 * c3 * t + 2.0 * c2) * t + c1, 6.0 * c3 * t + 2.0 * c2)[nu]
-            )
-        return np.stack(out, axis=1)
 
+def _spaced(a: np.ndarray, b: np.ndarray, counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.linspace(a[i], b[i], counts[i])`` for every i, concatenated, and the i of each value."""
+    pid = np.repeat(np.arange(len(a)), counts)
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    j = np.arange(int(counts.sum())) - first[pid]
+    x = j * ((b - a) / (counts - 1))[pid] + a[pid]
+    last = first + counts - 1
+    x[last] = b
+    return x, pid
+
+
+def pieces(pp: tuple[np.ndarray, np.ndarray, np.ndarray], cuts: np.ndarray, w: float) -> list[Poly]:
+    """The spline between consecutive parameters of ``cuts`` as curvature-continuous Polys: each
+    sampled for a chord error ≤ CHORD_TOL_MM / 2 at its largest curvature (at least 8 intervals)
+    and at every knot and knot-span middle, true arc length by 5-point Gauss–Legendre per interval
+    (``pp``: breakpoints and per-interval cubic coefficients of x(s) and y(s), highest power
+    first); every piece of the run is evaluated in one pass."""
+    cuts = np.asarray(cuts, float)
+    a, b = cuts[:-1], cuts[1:]
+    n = len(a)
     L = b - a
-    probe = np.linspace(a, b, 33)
-    d1, d2 = ev(probe, 1), ev(probe, 2)
+    probe, _ = _spaced(a, b, np.full(n, 33))
+    d1, d2 = _ev(pp, probe, 1), _ev(pp, probe, 2)
     n2 = np.einsum("ij,ij->i", d1, d1)
-    kmax = float(np.max(np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(n2, 1e-300) ** 1.5))
-    k = max(8, int(math.ceil(L * math.sqrt(kmax / (4.0 * CHORD_TOL_MM)))))
-    # and every knot of the spline with two points per knot span: the Poly's quintic Hermite pieces
+    kap = (np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(n2, 1e-300) ** 1.5).reshape(n, 33)
+    k = np.maximum(8, np.ceil(L * np.sqrt(kap.max(axis=1) / (4.0 * CHORD_TOL_MM))).astype(int))
+    uniform, upid = _spaced(a, b, k + 1)
+    # every knot of the spline with two points per knot span: the Poly's quintic Hermite pieces
     # then follow the spline's cubic pieces closely, curvature included
     brk = pp[0]
-    inner = brk[(brk > a) & (brk < b)]
-    spans = np.concatenate(([a], inner, [b]))
-    s = np.unique(np.concatenate((np.linspace(a, b, k + 1), spans, 0.5 * (spans[1:] + spans[:-1]))))
+    spans = np.unique(np.concatenate((cuts, brk[(brk > cuts[0]) & (brk < cuts[-1])])))
+    mids = 0.5 * (spans[1:] + spans[:-1])
+    inner = spans[(spans > cuts[0]) & (spans < cuts[-1])]
+    at = np.clip(np.searchsorted(cuts, inner, side="right") - 1, 0, n - 1)
+    on_cut = np.isin(inner, cuts)  # a cut ends one piece and starts the next
+    s = np.concatenate((uniform, mids, inner, inner[on_cut]))
+    pid = np.concatenate((upid, np.clip(np.searchsorted(cuts, mids, side="right") - 1, 0, n - 1), at, at[on_cut] - 1))
+    order = np.lexsort((s, pid))
+    s, pid = s[order], pid[order]
     # no two samples closer than 1 nm (a knot next to an end would give an empty Hermite piece)
-    s = s[np.concatenate(([True], np.diff(s) > 1e-6 * max(L, 1e-3)))]
-    s[-1] = b
-    P, d1, d2 = ev(s, 0), ev(s, 1), ev(s, 2)
+    keep = np.ones(len(s), bool)
+    same = pid[1:] == pid[:-1]
+    keep[1:] = ~same | (np.diff(s) > 1e-6 * np.maximum(L, 1e-3)[pid[1:]])
+    s, pid = s[keep], pid[keep]
+    ends = np.concatenate((np.nonzero(pid[1:] != pid[:-1])[0], [len(s) - 1]))
+    s[ends] = b
+    P, d1, d2 = _ev(pp, s, 0), _ev(pp, s, 1), _ev(pp, s, 2)
     n2 = np.maximum(np.einsum("ij,ij->i", d1, d1), 1e-300)
     tan = d1 / np.sqrt(n2)[:, None]
     along = np.einsum("ij,ij->i", d1, d2) / n2
     curv = (d2 - along[:, None] * d1) / n2[:, None]
     half = 0.5 * (s[1:] - s[:-1])
     mid = 0.5 * (s[1:] + s[:-1])
-    g = ev((mid[:, None] + half[:, None] * _GL5_X[None, :]).ravel(), 1)
-    speed = np.hypot(g[:, 0], g[:, 1]).reshape(len(mid), 5)
-    cum = np.concatenate(([0.0], np.cumsum(half * (speed @ _GL5_W))))
-    zero = np.zeros((len(s), 1))
-    return Poly(
-        tuple(map(tuple, np.hstack((P, np.full((len(s), 1), w))).tolist())),
-        tuple(map(tuple, np.hstack((tan, zero)).tolist())),
-        tuple(cum.tolist()),
-        "chain-spline",
-        tuple(map(tuple, np.hstack((curv, zero)).tolist())),
-    )
+    g = _ev(pp, (mid[:, None] + half[:, None] * _GL5_X[None, :]).ravel(), 1)
+    seg_len = half * (np.hypot(g[:, 0], g[:, 1]).reshape(len(mid), 5) @ _GL5_W)
+    starts = np.concatenate(([0], ends[:-1] + 1))
+    pts = np.hstack((P, np.full((len(s), 1), w))).tolist()
+    tans = np.hstack((tan, np.zeros((len(s), 1)))).tolist()
+    curvs = np.hstack((curv, np.zeros((len(s), 1)))).tolist()
+    out = []
+    for i0, i1 in zip(starts.tolist(), ends.tolist(), strict=True):
+        cum = np.concatenate(([0.0], np.cumsum(seg_len[i0:i1])))
+        out.append(
+            Poly(
+                tuple(map(tuple, pts[i0 : i1 + 1])),
+                tuple(map(tuple, tans[i0 : i1 + 1])),
+                tuple(cum.tolist()),
+                "chain-spline",
+                tuple(map(tuple, curvs[i0 : i1 + 1])),
+            )
+        )
+    return out
 
 
 def ppoly(cx: BSpline, cy: BSpline) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -37,6 +37,7 @@ from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.selection import fastest
 from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite, curvature_jump_joints, find_corner_sites
 from trcopt.optimize.corners.strategies import CornerJob
+from trcopt.optimize.corners.time_model import quicker
 from trcopt.path import Segment
 from trcopt.progress import iterate
 from trcopt.verify.contour import part_contour
@@ -93,15 +94,9 @@ def _with_run_splines(job: CornerJob, circles: CornerResult) -> CornerResult:
     if not job.select:
         return splines
     from trcopt.config import DEFAULT_MACHINE
-    from trcopt.errors import TimingError
-    from trcopt.timing import time_parameterize
 
     m = job.machine or DEFAULT_MACHINE
-    try:
-        faster = time_parameterize(splines.segments, m).duration < time_parameterize(circles.segments, m).duration
-    except TimingError:  # a plan the timing stage cannot parameterise is not chosen
-        faster = False
-    return splines if faster else circles
+    return splines if not quicker(circles.segments, splines.segments, m) else circles
 
 
 def _renumber(first: CornerResult, second: CornerResult) -> CornerResult:
@@ -162,7 +157,7 @@ def _g2_transitions(job: CornerJob) -> CornerResult:
     if circles_win:
         result = _with_reason(result)
     if job.select and (result.count(TransitionKind.QUINTIC) or result.count(TransitionKind.SPLINE)):
-        result = fastest(job, plan, result)
+        result = fastest(job, plan, result, circles)
     if plan.kept:
         result.corners = sorted(result.corners + plan.kept, key=lambda r: r.index)
     return result

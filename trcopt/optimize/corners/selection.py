@@ -1,10 +1,10 @@
 """The choice between G2 and circular transitions by cycle time (the ``optimal`` strategy's ``select``).
 
 A per-corner G2 quintic needs zero curvature where it meets a line, so between short chords a
-circular blend of the same ε can carry more speed under acceleration limits. :func:`fastest` times
-the G2 plan, the same-ε circular blends everywhere and a per-corner mix (chosen by a local time
-estimate) with the timing stage and keeps the fastest, so the result is never slower than the
-circular blends.
+circular blend of the same ε can carry more speed under acceleration limits. :func:`fastest`
+compares the G2 plan, the same-ε circular blends everywhere and a per-corner mix (chosen by a local
+time estimate) by the cycle-time model of :mod:`~trcopt.optimize.corners.time_model` (by the timing
+stage where the model cannot tell them apart) and keeps the fastest.
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ from dataclasses import replace
 import numpy as np
 
 from trcopt.config import DEFAULT_MACHINE
-from trcopt.errors import TimingError
 from trcopt.geometry import Arc
 from trcopt.modes import TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
@@ -26,28 +25,24 @@ from trcopt.optimize.corners.curves import quintic_basis
 from trcopt.optimize.corners.qp import CornerGeometry
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
+from trcopt.optimize.corners.time_model import quicker
 
 __all__ = ["fastest"]
 
 
-def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> CornerResult:
+def fastest(
+    job: CornerJob, plan: TransitionPlan, optimal: CornerResult, circles: CornerResult | None = None
+) -> CornerResult:
     """The fastest on ``job.machine`` of: ``optimal`` (the G2 transitions of ``plan``, with splines
     across runs of CAM chords), same-ε circular blends at every site, and a per-corner choice by
-    :func:`_local_time` — timed by the timing stage. The records keep the G2 solutions, so the
-    report says why a corner is circular."""
-    from trcopt.timing import time_parameterize
-
+    :func:`_local_time` — compared by :func:`~trcopt.optimize.corners.time_model.quicker`. The records
+    keep the G2 solutions, so the report says why a corner is circular. ``circles``: the circular
+    blends of ``plan.segments`` where the caller has them (computed otherwise)."""
     m = job.machine or DEFAULT_MACHINE
     segs, eps_of, solved = plan.segments, plan.eps, plan.solved
-    arc = arc_transitions(CornerJob("arc", segs, job.programmed, job.tolerance_mm))
-    t_arc = time_parameterize(arc.segments, m).duration
-    why_arc = "circular blends everywhere are faster than the G2 transitions (timed)"
-    try:
-        t_opt = time_parameterize(optimal.segments, m).duration
-    except TimingError as exc:  # a G2 plan the timing stage cannot parameterise is not chosen
-        t_opt = math.inf
-        why_arc = f"the G2 plan could not be timed ({exc.message}): circular blends"
-    best, t_best = (optimal, t_opt) if t_opt <= t_arc else (arc, t_arc)
+    arc = circles if circles is not None else arc_transitions(replace(job, strategy="arc", toolpath=segs))
+    why_arc = "circular blends everywhere are faster than the G2 transitions (cycle time)"
+    best = optimal if quicker(optimal.segments, arc.segments, m) else arc
     a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
     single = plan.single
     choice = {}
@@ -60,15 +55,13 @@ def fastest(job: CornerJob, plan: TransitionPlan, optimal: CornerResult) -> Corn
             continue
         feed_mm_s = segs[k].feed_mm_s
         feed = m.rapid_mm_s if feed_mm_s is None else float(feed_mm_s)
-        quicker = _local_time(sol.geometry, built, feed, a_lat) <= 0.0
-        choice[k] = TransitionKind.QUINTIC if quicker else TransitionKind.ARC
+        shorter = _local_time(sol.geometry, built, feed, a_lat) <= 0.0
+        choice[k] = TransitionKind.QUINTIC if shorter else TransitionKind.ARC
     if set(choice.values()) == {TransitionKind.QUINTIC, TransitionKind.ARC}:
         hybrid = assemble(segs, single, eps_of, solved, job.strategy, choice, plan.splines)
         hybrid.max_deviation_mm = cut_deviation(job.programmed, segs, hybrid.segments)[0]
-        if hybrid.max_deviation_mm <= job.tolerance_mm:
-            t_h = time_parameterize(hybrid.segments, m).duration
-            if t_h < t_best:
-                best, t_best = hybrid, t_h
+        if hybrid.max_deviation_mm <= job.tolerance_mm and not quicker(best.segments, hybrid.segments, m):
+            best = hybrid
     if best is arc:
         # the closed-form circular blends, with the G2 solutions in the records: the report says
         # why each corner is circular
