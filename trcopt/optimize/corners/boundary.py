@@ -134,7 +134,7 @@ def boundary_probes(
     path = Elements([*exact, *(others or ())])
     m, e = path.near(P, radius + tol)
     dmin = np.full(len(P), np.inf)
-    np.minimum.at(dmin, m, path.feet(e, P[m]).dist)
+    np.minimum.at(dmin, m, path.distances(e, P[m]))
     keep = np.abs(dmin - radius) <= tol
     return P[keep], D[keep]
 

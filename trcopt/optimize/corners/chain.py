@@ -382,7 +382,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         block = [rows(B0s, m, nv, n)]
         # at least R, or as far as the exact path is at that place where it is closer (the
         # controller's near-tangent joints: R·(1 − cos turn) at most, accepted by the verification)
-        clear_ref = np.minimum(R, prog.feet(e, ref_pts[m]).dist)
+        clear_ref = np.minimum(R, prog.distances(e, ref_pts[m]))
         lo = [np.sum(nv * foot, axis=1) + clear_ref + _sag_margin(x_lin, B1s, B2s, n, gap, ramp)[m]]
         hi = [np.full(len(m), np.inf)]
         # tolerance: distance beyond the exact path on the free side (nearest exact element, and
@@ -430,12 +430,12 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     P = np.stack((cx(dense), cy(dense)), axis=1)
     tree = cKDTree(P)
     m, e = prog.near(P, R + 1.0, tree)
-    clear = float(prog.feet(e, P[m]).dist.min()) if len(m) else math.inf
+    clear = float(prog.distances(e, P[m]).min()) if len(m) else math.inf
     # the exact path's own clearance along the run (below R only at near-tangent joints)
     dense_idx = np.clip(np.searchsorted(cum, dense, side="right") - 1, 0, ref.n - 1)
     Q = ref.points(dense_idx, np.clip((dense - cum[dense_idx]) / ref.length[dense_idx], 0.0, 1.0))
     m, e = prog.near(Q, R, cKDTree(Q))
-    need = min(R, float(prog.feet(e, Q[m]).dist.min()) if len(m) else R) - 1e-9
+    need = min(R, float(prog.distances(e, Q[m]).min()) if len(m) else R) - 1e-9
     m, e = nearest(exact, P, near_exact + eps, tree)
     feet, mv, _ = free_directions(exact, e, P[m], site.material_sign, two_sided)
     along = np.sum((P[m] - feet) * mv, axis=1)

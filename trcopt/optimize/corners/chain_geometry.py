@@ -109,8 +109,38 @@ class Elements:
             return np.zeros(0, int), np.zeros(0, int)
         m = np.fromiter(chain.from_iterable(lists), int, int(counts.sum()))
         e = np.repeat(np.arange(self.n), counts)
-        ok = self.feet(e, pts[m]).dist <= within
+        ok = self.distances(e, pts[m]) <= within
         return m[ok], e[ok]
+
+    def distances(self, idx: np.ndarray, pts: np.ndarray) -> np.ndarray:
+        """Distances from the points ``pts`` to the elements ``idx`` (pairwise, k each): the
+        ``dist`` of :meth:`feet` without the feet (an arc's sweep is tested with cross products)."""
+        a, b = self.p0[idx], self.p1[idx]
+        d = b - a
+        rel = pts - a
+        dd = np.einsum("ij,ij->i", d, d)
+        t = np.clip(np.einsum("ij,ij->i", rel, d) / np.where(dd > 0.0, dd, 1.0), 0.0, 1.0)
+        off = rel - t[:, None] * d
+        dist = np.hypot(off[:, 0], off[:, 1])
+        arcs = np.nonzero(self.is_arc[idx])[0]
+        if len(arcs):
+            j = idx[arcs]
+            q = pts[arcs]
+            c = self.center[j]
+            rc = q - c
+            sw = self.sweep[j]
+            sg = np.sign(sw)
+            u0, u1 = a[arcs] - c, b[arcs] - c
+            # inside the sweep: counter-clockwise (for sg > 0) from the start and before the end
+            c0 = sg * (u0[:, 0] * rc[:, 1] - u0[:, 1] * rc[:, 0])
+            c1 = sg * (rc[:, 0] * u1[:, 1] - rc[:, 1] * u1[:, 0])
+            small = np.abs(sw) <= math.pi
+            inside = np.where(small, (c0 >= 0.0) & (c1 >= 0.0), (c0 >= 0.0) | (c1 >= 0.0))
+            inside |= np.abs(sw) >= TWO_PI - 1e-12
+            radial = np.abs(np.hypot(rc[:, 0], rc[:, 1]) - self.radius[j])
+            ends = np.minimum(np.hypot(*(q - a[arcs]).T), np.hypot(*(q - b[arcs]).T))
+            dist[arcs] = np.where(inside, radial, ends)
+        return dist
 
 
 def nearest(E: Elements, pts: np.ndarray, within: float, tree: object) -> tuple[np.ndarray, np.ndarray]:
@@ -119,7 +149,7 @@ def nearest(E: Elements, pts: np.ndarray, within: float, tree: object) -> tuple[
     m, e = E.near(pts, within, tree)
     if not len(m):
         return m, e
-    d = E.feet(e, pts[m]).dist
+    d = E.distances(e, pts[m])
     order = np.lexsort((d, m))
     m, e = m[order], e[order]
     first = np.ones(len(m), bool)
