@@ -42,8 +42,11 @@ def solve_qp(P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, m
     eq = np.isfinite(lo) & np.isfinite(hi) & (hi - lo <= 1e-12 * np.maximum(1.0, np.abs(hi)))
     below = np.isfinite(lo) & ~eq
     above = np.isfinite(hi) & ~eq
-    # Clarabel's form: A'x + s = b, s in the cones (zero cone: equalities; s ≥ 0: inequalities)
-    A_c = sparse.vstack((A[eq], -A[below], A[above]), format="csc")
+    # Clarabel's form: A'x + s = b, s in the cones (zero cone: equalities; s ≥ 0: inequalities):
+    # the rows of A in that order, a lower bound's row negated
+    rows = np.concatenate((np.nonzero(eq)[0], np.nonzero(below)[0], np.nonzero(above)[0]))
+    sign = np.concatenate((np.ones(int(eq.sum())), -np.ones(int(below.sum())), np.ones(int(above.sum()))))
+    A_c = (sparse.diags(sign) @ A[rows]).tocsc()
     b = np.concatenate((hi[eq], -lo[below], hi[above]))
     cones = []
     if eq.any():

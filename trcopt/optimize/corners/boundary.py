@@ -308,7 +308,7 @@ def _left_over(
     # centres are dense samples along a path: an unbalanced tree of larger leaves answers the
     # nearest-neighbour queries of probes a radius away 2–3× faster than the default one
     tree = cKDTree(centres, leafsize=32, balanced_tree=False, compact_nodes=False)
-    k0 = min(8, len(centres))
+    k0 = min(4, len(centres))
     d0, i0 = tree.query(probes, k=k0)
     d0, i0 = np.asarray(d0).reshape(len(probes), k0), np.asarray(i0).reshape(len(probes), k0)
     # a probe within R (+ half a sample spacing of chord sag) of a centre sample is swept
@@ -316,7 +316,7 @@ def _left_over(
     if not len(open_):
         return best, None
     # bounds per open probe: at least its distance to the nearest centre less R (no disc is
-    # nearer), at most what its nearest 8, then NEAREST_CENTRES, discs leave (fewer discs leave at
+    # nearer), at most what its nearest 4, then NEAREST_CENTRES, discs leave (fewer discs leave at
     # least as much); then the exact value against every centre within R + 1 mm, in decreasing
     # order of the bound, until no bound exceeds the largest exact value found
     floor = max(best, float((d0[open_, 0] - R).max()))
