@@ -194,6 +194,7 @@ class Code(enum.StrEnum):
     SCHEMA = "SCHEMA"
     DXF_MISSING = "DXF-MISSING"
     HH_M120 = "HH-M120"
+    HH_NO_DIRECTION = "HH-NO-DIRECTION"
 
 
 MEANING: dict[Code, str] = {
@@ -370,6 +371,8 @@ MEANING: dict[Code, str] = {
     Code.HH_M120: "M120 LA (radius-compensated look-ahead) programmed where the TNC refuses it: LA not a whole "
     "number 0…99, LA without M120, M120 LA without RL/RR or outside a positioning block, a cycle that needs "
     "M120 cancelled",
+    Code.HH_NO_DIRECTION: "RND, CT, APPR or DEP needs the direction of a neighbouring contour element that does "
+    "not move in the working plane (a null or an infeed-only move)",
 }
 
 _FAMILIES = {

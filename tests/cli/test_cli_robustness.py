@@ -33,6 +33,14 @@ def test_a_binary_file_is_not_a_text_file(tmp_path: Path, capsys, data: bytes) -
         assert f"{prog}:1:10: error NC-NOT-TEXT (N10): not a text file (NUL byte at offset 9)" in err
 
 
+def test_a_file_of_control_characters_is_placed_at_the_first_one(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "prog.mpf"
+    prog.write_bytes(b"N10 G1 X1\nN20 \x01\x02\x03\x04\x05\x06\x07\x08\xff\x0e\x0f\x10\n")
+    assert main(["check", str(prog)]) == 2
+    err = capsys.readouterr().err
+    assert f"{prog}:2:5: error NC-NOT-TEXT (N20): not a text file (11 of 27 bytes are control characters, the first at offset 14)" in err
+
+
 def test_utf16_and_latin1_programs_are_still_read(tmp_path: Path) -> None:
     text = GEAR.read_text()
     for name, data in (("u16.mpf", text.encode("utf-16")), ("l1.mpf", ("; Maß °\n" + text).encode("latin-1"))):

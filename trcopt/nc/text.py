@@ -87,11 +87,12 @@ def decode_program(raw: bytes, file: str) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         pass
-    controls = sum(1 for b in raw if (b < 32 or b == 127) and b not in _TEXT_CONTROLS)
+    places = [i for i, b in enumerate(raw) if (b < 32 or b == 127) and b not in _TEXT_CONTROLS]
+    controls = len(places)
     if raw and controls / len(raw) > MAX_CONTROL_FRACTION:
         raise TrcoptError(
-            f"not a text file ({controls} of {len(raw)} bytes are control characters)",
+            f"not a text file ({controls} of {len(raw)} bytes are control characters, the first at offset {places[0]})",
             code=Code.NC_NOT_TEXT,
-            span=SourceSpan(file),
+            span=_byte_place(raw, places[0], file),
         )
     return raw.decode("latin-1")

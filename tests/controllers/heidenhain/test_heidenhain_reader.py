@@ -222,6 +222,10 @@ def test_ct_without_a_previous_element():
             "6",
         ),
         (("L X+0 Y+0 R0 FMAX", "L X+10 Y+0"), "HH-NO-FEED", "4"),
+        # RND, CT and DEP after an infeed-only move: no direction in the working plane to continue
+        (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "RND R2", "L X+10 Y+0"), "HH-NO-DIRECTION", "6"),
+        (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "CT X+10 Y+10"), "HH-NO-DIRECTION", "5"),
+        (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "DEP LT LEN10 F100"), "HH-NO-DIRECTION", "5"),
     ],
 )
 def test_bad_input_diagnostics(blocks, code, block):

@@ -89,10 +89,23 @@ class Elem:
         return self.geometry().plane_length
 
     def end_tangent(self) -> Vec2:
-        return self.geometry().end_tangent()
+        return self._direction(end=True)
 
     def start_tangent(self) -> Vec2:
-        return self.geometry().start_tangent()
+        return self._direction(end=False)
+
+    def _direction(self, end: bool) -> Vec2:
+        """The unit tangent in the working plane at the end (start); an element that does not move
+        in the plane has none (:class:`ContourError` ``HH-NO-DIRECTION``)."""
+        g = self.geometry()
+        if isinstance(g, Line) and g.plane_length <= 1e-12:
+            where = f"block {self.span.block}" if self.span.block else f"line {self.span.line}"
+            raise ContourError(
+                Code.HH_NO_DIRECTION,
+                f"the contour element of {where} does not move in the working plane: "
+                "it has no direction to continue from (RND, CT, APPR and DEP need one)",
+            )
+        return g.end_tangent() if end else g.start_tangent()
 
 
 def _uv(p: Vec3) -> Vec2:
@@ -151,8 +164,8 @@ def apply_rnd(a: Elem, b: Elem, radius: float, span: SourceSpan) -> Elem:
     returns the fillet arc (lines and arcs; the tangent points are found on offset carriers)."""
     if radius <= 0:
         raise ContourError(Code.HH_RND_TOO_LARGE, f"RND radius must be > 0 (got {radius:g})")
+    ta, tb = a.end_tangent(), b.start_tangent()
     ga, gb = a.geometry(), b.geometry()
-    ta, tb = ga.end_tangent(), gb.start_tangent()
     k = vec.cross(ta, tb)
     if abs(k) <= 1e-12 and vec.dot(ta, tb) > 0:
         raise ContourError(Code.HH_RND_TOO_LARGE, "RND at a tangential transition (no corner to round)")
