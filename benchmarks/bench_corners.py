@@ -1,4 +1,4 @@
-"""Corner-transition benchmark (issue 6, part 1): exact stop vs same-ε circular blends vs
+"""Corner-transition benchmark: exact stop vs same-ε circular blends vs
 optimal G2 transitions (SQP of interior-point QPs), with grbl junction deviation as the infeasible reference.
 
 Run:  python benchmarks/bench_corners.py [problem.mpf ...] [--eps 0.01,0.1]

@@ -49,7 +49,7 @@ def cam_circle() -> str:
     pts = [mid, *pts[:-1], mid]
     defl = math.degrees(2 * math.pi / count)
     real = 2 * R * math.sin(math.pi / count)
-    title = (f"Issue 6 benchmark: CAM-style polyline, circular pocket R {R:g} in {count} chords of {real:.4f} mm "
+    title = (f"Corner benchmark: CAM-style polyline, circular pocket R {R:g} in {count} chords of {real:.4f} mm "
              f"(deflection {defl:.2f} deg), G41 inside, R = 3")
     return _program(title, 3, pts, (0.0, 0.0), (0.0, 0.0), side="G41")
 
@@ -76,7 +76,7 @@ def cam_freeform() -> tuple[str, float, float, float, float, int]:
         u = (b[0] - a[0], b[1] - a[1])
         v = (c[0] - b[0], c[1] - b[1])
         defl.append(abs(math.degrees(math.atan2(u[0] * v[1] - u[1] * v[0], u[0] * v[0] + u[1] * v[1]))))
-    title = (f"Issue 6 benchmark: CAM-style polyline, three-lobed cam r = 28 + 6 sin 3t in {len(chords)} chords "
+    title = (f"Corner benchmark: CAM-style polyline, three-lobed cam r = 28 + 6 sin 3t in {len(chords)} chords "
              f"of {min(chords):.2f}-{max(chords):.2f} mm (deflection {min(defl):.2f}-{max(defl):.2f} deg), "
              "G42 outside, R = 3")
     x0, y0 = pts[0]
@@ -99,7 +99,7 @@ def gear() -> str:
     out = math.hypot(*mid)
     far = ((out + 10) * mid[0] / out, (out + 10) * mid[1] / out)
     title = (
-        f"Issue 6 benchmark: {teeth}-tooth gear, straight flanks, root R {root:g}, tip R {tip:g}, G42 outside, R = 2"
+        f"Corner benchmark: {teeth}-tooth gear, straight flanks, root R {root:g}, tip R {tip:g}, G42 outside, R = 2"
     )
     return _program(title, 2, ring, far, far)
 

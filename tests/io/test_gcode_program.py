@@ -1,4 +1,4 @@
-"""Safe tool-centre G-code of a whole plan (issue 18, part 1): the program's non-motion words in
+"""Safe tool-centre G-code of a whole plan: the program's non-motion words in
 order at the place they act, no invented motion, the alarm and omitted blocks named, the program's
 units, each motion traceable; and the round trip — the written program, planned again, gives the
 same tool-centre path and the same words in the same order."""

@@ -1,4 +1,4 @@
-"""The streamed writers (issue 19): the plan JSON, the G-code and the feed CSV written in pieces are
+"""The streamed writers: the plan JSON, the G-code and the feed CSV written in pieces are
 byte for byte the text written at once, the fast JSON writer is the standard library's text, and a
 staged output is either complete in place or not there at all."""
 

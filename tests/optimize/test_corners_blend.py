@@ -1,4 +1,4 @@
-"""Corner transitions (issue 6, part 1): the 20/20 mm corner at 30° deflection, ε = 0.1 mm."""
+"""Corner transitions: the 20/20 mm corner at 30° deflection, ε = 0.1 mm."""
 
 from __future__ import annotations
 

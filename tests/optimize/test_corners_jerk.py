@@ -1,4 +1,4 @@
-"""Corner transitions for jerk-limited timing: the curvature-rate objective (issue 6, part 2)."""
+"""Corner transitions for jerk-limited timing: the curvature-rate objective."""
 
 from __future__ import annotations
 

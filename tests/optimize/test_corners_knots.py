@@ -1,5 +1,5 @@
 """Curvature jumps (line↔arc joints of a tangent-continuous tool path) as G2 splines under jerk
-limits (issue 6: "at curvature jumps when jerk limits are active")."""
+limits."""
 
 from __future__ import annotations
 

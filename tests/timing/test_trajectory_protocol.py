@@ -64,7 +64,7 @@ def test_an_empty_path_is_a_trajectory():
 
 
 def test_limit_checks_in_chunks_equal_the_checks_at_once(monkeypatch) -> None:
-    # issue 19: the limit check and the jerk estimate sample in bounded chunks; the maxima are
+    # the limit check and the jerk estimate sample in bounded chunks; the maxima are
     # those of all samples at once, bit for bit
     import trcopt.timing.checks as checks_module
     from trcopt.errors import SourceSpan

@@ -16,35 +16,55 @@ import numpy as np
 
 from trcopt.config import Machine
 
-__all__ = ["double_s_time", "line_limits", "double_s_line_time", "double_s_polyline_time"]
-
-
-def _ramp_time(v: float, a: float, j: float) -> float:
-    """Duration of a rest→v (or v→rest) ramp, s."""
-    return v / a + a / j if v * j >= a * a else 2.0 * math.sqrt(v / j)
+__all__ = ["double_s_time", "double_s_phases", "line_limits", "double_s_line_time", "double_s_polyline_time"]
 
 
 def double_s_time(length: float, v: float, a: float, j: float) -> float:
     """Time-optimal rest-to-rest duration (s) over ``length`` mm under v (mm/s), a (mm/s²), J (mm/s³).
 
     ``Ta = v/a + a/J`` if ``vJ ≥ a²`` else ``2·sqrt(v/J)``; if ``L ≥ v·Ta`` then ``T = L/v + Ta``,
-    otherwise the peak speed ``vp`` solves ``vp·Ta(vp) = L`` (bisection) and ``T = 2·Ta(vp)``.
+    otherwise the peak speed ``vp`` solves ``vp·Ta(vp) = L`` and ``T = 2·Ta(vp)``: the sum of the
+    phases of :func:`double_s_phases`.
     """
     if length <= 0:
         return 0.0
+    return float(double_s_phases(length, v, a, j)[0].sum())
+
+
+def double_s_phases(length: float, v: float, a: float, j: float) -> tuple[np.ndarray, np.ndarray]:
+    """Durations (s) and path jerks (mm/s³) of the rest-to-rest double-S phases over ``length`` mm.
+
+    ``Tj`` (jerk phase) and ``Ta`` (acceleration phase) for the peak speed ``vp``: ``Tj = a/J``,
+    ``Ta = vp/a + a/J`` when ``vp·J ≥ a²``, else ``Tj = sqrt(vp/J)``, ``Ta = 2·Tj``; the peak speed is
+    ``v`` when ``L ≥ v·Ta(v)`` (cruise ``L/v − Ta``), else the root of ``vp·Ta(vp) = L`` in closed
+    form. Phases of zero duration are left out.
+    """
+    if length <= 0:
+        raise ValueError("double_s_phases needs a positive length")
     if min(v, a, j) <= 0:
         raise ValueError("double_s_time needs positive v, a and J")
-    ta = _ramp_time(v, a, j)
-    if length >= v * ta:
-        return length / v + ta
-    lo, hi = 0.0, v
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if mid * _ramp_time(mid, a, j) < length:
-            lo = mid
-        else:
-            hi = mid
-    return 2.0 * _ramp_time(0.5 * (lo + hi), a, j)
+
+    def ramp(vp: float) -> tuple[float, float]:
+        if vp * j >= a * a:
+            return a / j, vp / a + a / j
+        tj = math.sqrt(vp / j)
+        return tj, 2.0 * tj
+
+    tj, ta = ramp(v)
+    vp = v
+    if length < v * ta:
+        # vp² /a + vp·a/J = L (acceleration reaches a) or 2·vp·sqrt(vp/J) = L (it does not)
+        vp = 0.5 * a * (math.sqrt((a / j) ** 2 + 4.0 * length / a) - a / j)
+        if vp * j < a * a:
+            vp = (length * length * j / 4.0) ** (1.0 / 3.0)
+        vp = min(vp, v)
+        tj, ta = ramp(vp)
+    tv = max(length / vp - ta, 0.0)
+    tc = max(ta - 2.0 * tj, 0.0)
+    h = np.array([tj, tc, tj, tv, tj, tc, tj])
+    jj = np.array([j, 0.0, -j, 0.0, -j, 0.0, j])
+    keep = h > 0.0
+    return h[keep], jj[keep]
 
 
 def line_limits(direction: Sequence[float], machine: Machine, feed: float) -> tuple[float, float, float]:

@@ -1,5 +1,5 @@
 """Heidenhain Q parameters, program flow (LBL, CALL LBL, REP, FN 9–12, CALL PGM), coordinate
-transformation cycles (CYCL DEF 7/8/10/11/26) and the errors of bad input (issue 17)."""
+transformation cycles (CYCL DEF 7/8/10/11/26) and the errors of bad input."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""M120 LA n — the TNC's radius-compensated look-ahead (issue 17): modelled as the engine's
+"""M120 LA n — the TNC's radius-compensated look-ahead: modelled as the engine's
 collision detection (SINUMERIK CDON) with the search limit LA; switched off by M120 LA0, M120
 without LA, R0, DEP and CALL PGM; refused where the TNC refuses it."""
 

@@ -1,5 +1,5 @@
 """Differential comparison of trcopt's rs274 reader and linuxcnc profile with LinuxCNC's own
-``rs274`` (issue 16).
+``rs274``.
 
 ``rs274`` prints the canonical machine calls of a program: moves in the *active* work system
 (program units) and the offsets apart (``SET_G5X_OFFSET``, ``SET_G92_OFFSET``). :func:`canon`

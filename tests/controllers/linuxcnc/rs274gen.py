@@ -1,5 +1,5 @@
-"""Seeded random RS274NGC programs for the differential comparison with LinuxCNC's ``rs274``
-(issue 16): work offsets (G10 L2/L20, G54…G59.3), G92/G92.1/G92.2/G92.3, G52, G53, G28/G30 and
+"""Seeded random RS274NGC programs for the differential comparison with LinuxCNC's ``rs274``:
+work offsets (G10 L2/L20, G54…G59.3), G92/G92.1/G92.2/G92.3, G52, G53, G28/G30 and
 their .1, tool changes and length offsets (T M6, M61, G43 H, G43.1, G49, G10 L1/L10), canned
 cycles (G73 G81–G87 G89, G98/G99, L, G91), compensated contours (G41/G42 with D from the tool
 table or the spindle tool, G41.1/G42.1), predefined parameters (``#<_x>``…), DEBUG messages, and

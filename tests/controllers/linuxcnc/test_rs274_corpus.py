@@ -1,4 +1,4 @@
-"""trcopt against LinuxCNC's ``rs274`` on a stored corpus of random programs (issue 16).
+"""trcopt against LinuxCNC's ``rs274`` on a stored corpus of random programs.
 
 ``tests/data/rs274_corpus.json`` holds 200 programs of :mod:`rs274gen` (seeds 0…199: work
 offsets, G92, G28/G30, G53, tool changes and length offsets, canned cycles, compensated contours
@@ -22,7 +22,7 @@ from rs274gen import program  # noqa: E402
 
 CORPUS = Path(__file__).resolve().parents[2] / "data" / "rs274_corpus.json"
 # known disagreements, by seed, with their cause (none at present; seed 48 — an arc trimmed by an
-# inside corner in a metric program, LinuxCNC's 0.0254 sweep slack — agrees since issue 16)
+# inside corner in a metric program, LinuxCNC's 0.0254 sweep slack — agrees now)
 KNOWN: dict[int, str] = {}
 needs_table = pytest.mark.skipif(not SIM_TBL.is_file(), reason=f"LinuxCNC sim.tbl not found at {SIM_TBL}")
 

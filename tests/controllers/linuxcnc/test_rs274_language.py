@@ -1,4 +1,4 @@
-"""The RS274NGC language of LinuxCNC's interpreter (issue 16): parameters, expressions, O-word
+"""The RS274NGC language of LinuxCNC's interpreter: parameters, expressions, O-word
 control flow, subroutines (also from a file beside the program) and their errors.
 
 Every expected value below is a fact measured with LinuxCNC's own ``rs274`` (a build of LinuxCNC

@@ -1,6 +1,6 @@
-"""Work offsets, G92, G28/G30, G53, tool words, canned cycles and messages of the rs274 reader
-(issue 16). Expected numbers are LinuxCNC's (``rs274`` output of the same programs, written
-down here), in the G54 system, mm."""
+"""Work offsets, G92, G28/G30, G53, tool words, canned cycles and messages of the rs274 reader.
+Expected numbers are LinuxCNC's (``rs274`` output of the same programs, written down here), in
+the G54 system, mm."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""SINUMERIK ``CASE(expr) OF c GOTOF l … DEFAULT GOTOF l``, ``CALL "NAME"`` and ``PCALL path/NAME(args)``
-(issue 17): where they lead, and the located errors of bad input."""
+"""SINUMERIK ``CASE(expr) OF c GOTOF l … DEFAULT GOTOF l``, ``CALL "NAME"`` and ``PCALL path/NAME(args)``:
+where they lead, and the located errors of bad input."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """SINUMERIK program flow, subprograms, frames, polar input, CIP/CT, drilling cycles, zero offsets and
-tool tables (issue 17): the golden pairs plan to the same tool-centre path as their explicit
+tool tables: the golden pairs plan to the same tool-centre path as their explicit
 programs, the CAM-post program runs end to end through ``trcopt plan``, and bad input is a located
 error."""
 

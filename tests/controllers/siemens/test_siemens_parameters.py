@@ -1,4 +1,4 @@
-"""SINUMERIK R-parameters, DEF variables and arithmetic (issue 17, first part): values in words,
+"""SINUMERIK R-parameters, DEF variables and arithmetic: values in words,
 operator priority and functions against hand-computed values, a compensated contour written with
 parameters planning to the same tool-centre path as with literal numbers, and located errors."""
 

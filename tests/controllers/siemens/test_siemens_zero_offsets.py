@@ -1,4 +1,4 @@
-"""SINUMERIK settable zero offsets with rotation and scale from the zero-offset file (issue 17): the
+"""SINUMERIK settable zero offsets with rotation and scale from the zero-offset file: the
 controller composes the settable frame and the programmable frame, ``P_mcs = S(F(P_wcs))``, so a
 rotated (scaled) G54 gives the tool-centre path of the same program with ``ROT`` (``SCALE``)
 programmed under an unrotated one."""

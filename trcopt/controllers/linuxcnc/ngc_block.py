@@ -1,5 +1,5 @@
 """One RS274NGC line as LinuxCNC reads it: the block number, then either an O-word control line
-or words and parameter settings (issue 16).
+or words and parameter settings.
 
 :func:`read_words` evaluates every word's value (``X#1``, ``F[#2*2]``, ``G[1]``) with the
 parameter values from before the line; the line's parameter settings (``#1=…``, ``#<a>=…``) are

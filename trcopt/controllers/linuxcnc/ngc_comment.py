@@ -1,4 +1,4 @@
-"""LinuxCNC's active comments (issue 16): ``(MSG,…)``, ``(DEBUG,…)``, ``(PRINT,…)``, ``(ABORT,…)``.
+"""LinuxCNC's active comments: ``(MSG,…)``, ``(DEBUG,…)``, ``(PRINT,…)``, ``(ABORT,…)``.
 
 Only the last comment of a line counts (LinuxCNC keeps one per block). ``MSG`` shows its text as
 written; ``DEBUG``, ``PRINT`` and ``ABORT`` substitute parameters first (``#1``, ``#<name>``;

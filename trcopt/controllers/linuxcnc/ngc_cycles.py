@@ -1,5 +1,4 @@
-"""Canned cycles ``G73 G74 G81``–``G89`` expanded into moves as LinuxCNC's interpreter emits them
-(issue 16).
+"""Canned cycles ``G73 G74 G81``–``G89`` expanded into moves as LinuxCNC's interpreter emits them.
 
 A cycle block positions in the plane at rapid, then runs the cycle along the axis normal to the
 plane (Z in G17, Y in G18, X in G19) between the R plane and the bottom, and retracts to the R

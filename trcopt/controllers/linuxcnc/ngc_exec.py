@@ -1,4 +1,4 @@
-"""One RS274NGC block executed as LinuxCNC's interpreter does (issue 16).
+"""One RS274NGC block executed as LinuxCNC's interpreter does.
 
 LinuxCNC does not execute a block's words in the order written but in a fixed order
 (``execute_block``): the comment (messages), F, S, T, ``M6``/``M61``, the spindle and coolant

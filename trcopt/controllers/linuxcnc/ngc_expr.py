@@ -1,5 +1,5 @@
 """RS274NGC values as LinuxCNC's interpreter reads them: the normalised line, parameters and
-expressions (issue 16).
+expressions.
 
 A line is first *normalised* as LinuxCNC does before it reads a word: comments ``( )`` and ``;``
 are taken out, blanks and tabs outside comments removed and letters lower-cased, so that

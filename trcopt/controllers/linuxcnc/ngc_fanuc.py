@@ -1,4 +1,4 @@
-"""Fanuc-style programs in LinuxCNC (issue 16): ``O100`` … ``M99`` called by ``M98 P100 [L n]``.
+"""Fanuc-style programs in LinuxCNC: ``O100`` … ``M99`` called by ``M98 P100 [L n]``.
 
 As LinuxCNC runs them: ``M98`` searches forward for the program number (or jumps to it when it
 was found before), runs the program ``L`` times and returns with ``M99``; the called program

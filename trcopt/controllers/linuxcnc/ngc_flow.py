@@ -1,4 +1,4 @@
-"""O-word control flow as LinuxCNC's interpreter runs it (issue 16).
+"""O-word control flow as LinuxCNC's interpreter runs it.
 
 LinuxCNC reads a program line by line and never builds a tree: a false ``if``, a finished loop or
 a subroutine definition sets a label to *skip to*, and lines are passed over unread (not even

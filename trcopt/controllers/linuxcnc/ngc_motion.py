@@ -1,4 +1,4 @@
-"""The state an RS274NGC program runs in, and the moves of its motion blocks (issue 16).
+"""The state an RS274NGC program runs in, and the moves of its motion blocks.
 
 :class:`NgcState` is LinuxCNC's ``setup`` as far as trcopt models it (positions in mm, program
 coordinates); :func:`arc_move` builds a G2/G3 move, :func:`compensation_on` reads LinuxCNC's

@@ -1,4 +1,4 @@
-"""Coordinate systems and offsets as LinuxCNC's interpreter keeps them (issue 16).
+"""Coordinate systems and offsets as LinuxCNC's interpreter keeps them.
 
 LinuxCNC holds the tool's *program* position (the controlled point in the active work system)
 and three offsets that map it onto the machine: the work offset of the active system ``G54`` …

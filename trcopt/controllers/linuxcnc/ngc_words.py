@@ -1,4 +1,4 @@
-"""The words of one RS274NGC block sorted as LinuxCNC's interpreter sorts them (issue 16).
+"""The words of one RS274NGC block sorted as LinuxCNC's interpreter sorts them.
 
 :func:`decode` puts every G and M code in its modal group (two of one group in a block are
 LinuxCNC's "Two g codes used from same modal group"), finds the motion the block runs (its

@@ -1,6 +1,6 @@
 """RS274NGC / LinuxCNC G-code front end: program text → canonical moves (absolute mm).
 
-The language is LinuxCNC's (issues 3 and 16): ``( )`` and ``;`` comments, block delete ``/``,
+The language is LinuxCNC's: ``( )`` and ``;`` comments, block delete ``/``,
 ``N`` numbers, ``%`` lines; parameters, ``[ ]`` expressions, O-word subroutines and control flow
 (:class:`~trcopt.controllers.linuxcnc.ngc_flow.NgcFlow`); each block is then decoded
 (:mod:`~trcopt.controllers.linuxcnc.ngc_words`) and executed in LinuxCNC's order

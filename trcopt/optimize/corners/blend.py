@@ -1,4 +1,4 @@
-"""Tolerance-bounded corner transitions of the tool-centre path (issue 6, part 1): the entry point.
+"""Tolerance-bounded corner transitions of the tool-centre path: the entry point.
 
 With exact geometry the tool stops at every tangent discontinuity of the tool-centre path. Given a
 contour tolerance ε (mm), :func:`blend_corners` replaces each such corner by the transition of a

@@ -1,4 +1,4 @@
-"""One corner transition as an SQP of convex quadratic programs (issue 6, part 1).
+"""One corner transition as an SQP of convex quadratic programs.
 
 A tangent discontinuity J of the tool-centre path between element ``a`` (incoming) and ``b``
 (outgoing) is replaced by a quintic Hermite curve from a point A on ``a`` (arc length ``sa``
