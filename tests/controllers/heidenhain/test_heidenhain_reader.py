@@ -226,6 +226,8 @@ def test_ct_without_a_previous_element():
         (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "RND R2", "L X+10 Y+0"), "HH-NO-DIRECTION", "6"),
         (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "CT X+10 Y+10"), "HH-NO-DIRECTION", "5"),
         (("L X+0 Y+0 R0 FMAX", "L Z-5 F100", "DEP LT LEN10 F100"), "HH-NO-DIRECTION", "5"),
+        # a number no program uses stops at its word, before any geometry is computed from it
+        (("L X+30 Y+0 R0 F1000", "APPR CT X+999999999999 Y+20 CCA90 R-10 RL F200", "L X+0 Y+40"), "NC-RANGE", "4"),
     ],
 )
 def test_bad_input_diagnostics(blocks, code, block):

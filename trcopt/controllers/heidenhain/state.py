@@ -47,6 +47,7 @@ __all__ = [
 ]
 
 COMPENSATION_WORDS = {"RL", "RR", "R0", "R+", "R-"}
+MAX_WORD_VALUE = 1e9  # no word of a part program exceeds this (coordinates are bounded later at 1e5 mm)
 FEED_WORDS = {"F", "FMAX", "FAUTO"}
 COORDINATE_WORDS = {"X", "Y", "Z", "IX", "IY", "IZ"}
 _POLAR_WORDS = {"PR", "IPR", "PA", "IPA"}
@@ -206,6 +207,15 @@ class ReaderState:
         for w in blk.words:
             if w.address == "?":
                 raise BlockError(Code.HH_SYNTAX, f"unknown word {w.text!r}", w.column)
+            if w.value is not None and not (math.isfinite(w.value) and abs(w.value) <= MAX_WORD_VALUE):
+                # the geometry of APPR/DEP, CT, RND … loses every digit on such numbers before the
+                # moves' range check (trcopt.nc.limits) sees them
+                raise BlockError(
+                    Code.NC_RANGE,
+                    f"word {w.text!r}: {w.value:.6g} is not a finite number within ±{MAX_WORD_VALUE:g} "
+                    "(trcopt.controllers.heidenhain.state.MAX_WORD_VALUE)",
+                    w.column,
+                )
             key = w.address
             if key not in allowed:
                 what = f"word {w.text!r}" if key else f"{w.text!r}"
