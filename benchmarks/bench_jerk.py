@@ -1,11 +1,14 @@
-"""Jerk-limited feed benchmark (issue 6 part 2): families B1–B9 and the corner comparison.
+"""Jerk-limited feed benchmark: families B1–B9 and the corner comparison.
 
-Run: ``python benchmarks/bench_jerk.py`` (``--big`` adds B9 with 1 000 segments, slow: about one
-IPOPT solve per section). Prints two markdown tables (see ``benchmarks/JERK.md``):
+Run: ``python benchmarks/bench_jerk.py`` (B9 with 1 000 segments takes about 30 s per machine,
+``--quick`` leaves it out; ``--workers N`` solves its sections on N processes, default 1 = throughput
+of one core; ``--nlp`` adds two columns with every section solved by the NLP, ``closed_form=False``).
+Prints two markdown tables (see ``benchmarks/JERK.md``):
 
 1. per family: acceleration-limited optimum T_acc (``time_parameterize``), jerk-limited T_jerk
    (``jerk_limited``), CTR = T_jerk/T_acc, the closed-form double-S reference on B1/B7, the jerk ratio
-   by the documented measure, the 1 kHz finite-difference jerk ratio, validity and wall time;
+   by the documented measure, the 1 kHz finite-difference jerk ratio, validity, wall time and
+   throughput (segments per second of ``jerk_limited`` with a given base);
 2. corner-dense parts: exact stop vs same-ε circular blends vs optimal transitions
    (``trcopt.optimize.corners.blend.optimize_corners`` when it is importable and blends the corners) under
    acceleration and jerk limits.
@@ -42,16 +45,22 @@ def double_s_reference(fam: str, path: list[Segment], machine) -> float | None:
     return double_s_polyline_time(pts, machine, float(path[0].feed_mm_s))
 
 
-def run_families(big: bool = False, workers: int = 2) -> list[dict]:
-    """Every family on both machines; the 1 000-segment B9 case (``big``) runs on ``workers`` processes."""
+def run_families(big: bool = True, workers: int = 1, nlp: bool = False) -> list[dict]:
+    """Every family on both machines; the 1 000-segment B9 case (``big``) runs on ``workers`` processes;
+    ``nlp`` also times every case with every section solved by the NLP (``closed_form=False``)."""
     rows = []
     for fam, case, path, _cf in families():
         if case.endswith("10000") or (case.endswith("1000") and not big):
             continue
         for machine in (ISO, ANISO):
             base = time_parameterize(path, machine)
-            t0 = time.perf_counter()
             procs = workers if case.endswith("1000") else 1
+            nlp_t = nlp_wall = None
+            if nlp:
+                t0 = time.perf_counter()
+                nlp_t = jerk_limited(path, machine, base=base, workers=procs, closed_form=False).duration
+                nlp_wall = time.perf_counter() - t0
+            t0 = time.perf_counter()
             traj = jerk_limited(path, machine, base=base, workers=procs)
             wall = time.perf_counter() - t0
             rep = traj.check_limits(dt=1e-4)
@@ -77,25 +86,32 @@ def run_families(big: bool = False, workers: int = 2) -> list[dict]:
                     "wall": wall,
                     "iters": traj.iterations,
                     "procs": procs,
+                    "closed": sum(sol.solver != "ipopt" for sol in traj.solutions),
+                    "nlp_T": nlp_t,
+                    "nlp_wall": nlp_wall,
                 }
             )
     return rows
 
 
 def families_table(rows: list[dict]) -> str:
+    nlp = any(r["nlp_T"] is not None for r in rows)
+    extra = " NLP-only T_jerk s | NLP-only wall s |" if nlp else ""
     out = [
-        "| family | case | limits | T_acc s | T_jerk s | CTR T_jerk/T_acc | Σ double-S s | T_jerk/ref "
-        "| jerk ratio | of which knots | FD 1 kHz | v ratio | a ratio | valid | wall s | seg/s (procs) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| family | case | limits | sections (closed form) | T_acc s | T_jerk s | CTR T_jerk/T_acc | Σ double-S s "
+        "| T_jerk/ref | jerk ratio | of which knots | FD 1 kHz | v ratio | a ratio | valid | wall s | seg/s (procs) |"
+        + extra,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|" + ("---|---|" if nlp else ""),
     ]
     for r in rows:
         ref = "" if r["ref"] is None else f"{r['ref']:.6f}"
         vs = "" if r["vs_ref"] is None else f"{r['vs_ref']:.4f}"
+        more = f" {r['nlp_T']:.6f} | {r['nlp_wall']:.2f} |" if nlp else ""
         out.append(
-            f"| {r['family']} | {r['case']} | {r['limits']} | {r['T_acc']:.6f} | {r['T_jerk']:.6f} | "
-            f"{r['CTR']:.4f} | {ref} | {vs} | {r['jerk']:.4f} | {r['jerk_knot']:.4f} | {r['fd1k']:.3f} | "
-            f"{r['v']:.4f} | {r['a']:.4f} | {'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} | "
-            f"{r['segments'] / r['wall']:.0f} ({r['procs']}) |"
+            f"| {r['family']} | {r['case']} | {r['limits']} | {r['sections']} ({r['closed']}) | {r['T_acc']:.6f} | "
+            f"{r['T_jerk']:.6f} | {r['CTR']:.4f} | {ref} | {vs} | {r['jerk']:.4f} | {r['jerk_knot']:.4f} | "
+            f"{r['fd1k']:.3f} | {r['v']:.4f} | {r['a']:.4f} | {'yes' if r['valid'] else 'NO'} | {r['wall']:.2f} | "
+            f"{r['segments'] / r['wall']:.0f} ({r['procs']}) |" + more
         )
     return "\n".join(out)
 
@@ -359,26 +375,39 @@ def compare_programs(eps: float = 0.01, names: tuple[str, ...] = PROGRAMS, worke
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--big", action="store_true", help="add B9 with 1 000 segments (slow)")
+    ap.add_argument("--quick", action="store_true", help="leave out B9 with 1 000 segments")
+    ap.add_argument("--nlp", action="store_true", help="also time every case with the NLP on every section")
     ap.add_argument("--no-families", action="store_true")
     ap.add_argument(
         "--programs", nargs="*", metavar="NAME", default=None,
         help="only part programs of problems/corners (all of PROGRAMS when no NAME is given)",
     )
-    ap.add_argument("--workers", type=int, default=2, help="processes for B9 with 1 000 segments")
+    ap.add_argument(
+        "--workers", type=int, default=None,
+        help="processes for B9 with 1 000 segments (default 1: the throughput of one core) or for --programs "
+        "(default 2)",
+    )
     args = ap.parse_args(argv)
     if args.programs is not None:
-        compare_programs(names=tuple(args.programs) or PROGRAMS, workers=args.workers)  # prints each row
+        compare_programs(names=tuple(args.programs) or PROGRAMS, workers=args.workers or 2)  # prints each row
         return
     if not args.no_families:
-        rows = run_families(args.big, args.workers)
+        rows = run_families(not args.quick, args.workers or 1, args.nlp)
         print(families_table(rows))
         ok = all(r["valid"] for r in rows)
         b17 = [r["vs_ref"] for r in rows if r["vs_ref"] is not None]
         print(
             f"\nall valid: {ok}; B1/B7 T_jerk/Σdouble-S in [{min(b17):.4f}, {max(b17):.4f}]; "
-            f"max jerk ratio {max(r['jerk'] for r in rows):.4f}; total wall {sum(r['wall'] for r in rows):.1f} s\n"
+            f"max jerk ratio {max(r['jerk'] for r in rows):.4f}; total wall {sum(r['wall'] for r in rows):.1f} s"
         )
+        for r in rows:
+            if r["case"].endswith("1000"):
+                print(
+                    f"throughput B9 random 1000 ({r['limits']}): {r['segments'] / r['wall']:.1f} seg/s on "
+                    f"{r['procs']} process(es), {r['closed']} of {r['sections']} sections in closed form"
+                    + (f"; NLP on every section: {r['segments'] / r['nlp_wall']:.1f} seg/s" if r["nlp_wall"] else "")
+                )
+        print()
     print(compare_table(compare_parts()))
 
 

@@ -145,10 +145,7 @@ def test_problem_is_inspectable_before_solving():
 
 def test_ipopt_failure_names_section_and_block(monkeypatch):
     monkeypatch.setattr(JerkProblem, "ipopt_options", {**JerkProblem.ipopt_options, "max_iter": 1})
-    path = [
-        seg(Line((0.0, 0.0, 0.0), (10.0, 0.0, 0.0)), block="N10"),
-        seg(Line((10.0, 0.0, 0.0), (10.0, 10.0, 0.0)), block="N20"),
-    ]
+    path = line_arc_line()  # one section with an arc: solved by the NLP (lines alone are closed-form)
     with pytest.raises(TimingError) as info:
         jerk_limited(path, ISO)
     msg = str(info.value)

@@ -4,7 +4,9 @@ The acceleration-limited optimum of :func:`trcopt.timing.time_parameterize` has 
 (spec timing.md §0.7). Here every section of it (a tangent-continuous run that starts and ends at
 rest) is re-solved as a :class:`~trcopt.timing.jerk_problem.JerkProblem`: a CasADi/IPOPT NLP over
 the path-speed profile with per-axis velocity, acceleration and jerk limits, warm-started from the
-acceleration-limited profile (node placement and speed caps: :mod:`trcopt.timing.jerk_grid`). The
+acceleration-limited profile (node placement and speed caps: :mod:`trcopt.timing.jerk_grid`). A
+section of collinear lines with one feed is solved in closed form instead: the rest-to-rest
+double-S under the line's scalar limits is its exact optimum (:mod:`trcopt.timing.jerk_lines`). The
 result, :class:`JerkTrajectory`, satisfies the :class:`~trcopt.trajectory.Trajectory` protocol like
 :class:`~trcopt.timing.TimedTrajectory` (``duration``, ``sample``, ``evaluate``, ``check_limits``,
 ``segments_with_times``, ``to_json``); its samples carry the jerk, and the report values are in
@@ -47,6 +49,7 @@ from trcopt.path import Segment
 from trcopt.progress import iterate
 from trcopt.solution import Solution
 from trcopt.timing.checks import axis_triple, max_jerk, path_deviation, path_ratios, worst
+from trcopt.timing.jerk_lines import line_section_limits, line_section_profile
 from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_label
 from trcopt.timing.jerk_report import JERK_MEASURE, KNOT_RULE, METHOD, JerkLimitReport, JerkSamples, jerk_limits
 from trcopt.timing.path import PathArrays, path_derivatives
@@ -248,7 +251,7 @@ class JerkTrajectory:
                     "length_mm": round(sec.length, 9),
                     "t_start_s": float(self.t0[a]),
                     "t_end_s": float(self.t0[b - 1] + self.h[b - 1]),
-                    "engine": "casadi-ipopt",
+                    "engine": "casadi-ipopt" if sol.solver == "ipopt" else sol.solver,
                     "status": sol.status.value,
                     "iterations": sol.iterations,
                     # no wall-clock time here: a plan's outputs are byte-identical on every rerun
@@ -297,6 +300,7 @@ def jerk_limited(
     points: int | None = None,
     tangent_tol_rad: float = 1e-6,
     workers: int = 1,
+    closed_form: bool = True,
 ) -> JerkTrajectory:
     """Jerk-limited time-optimal feed along a tool-centre path.
 
@@ -319,6 +323,10 @@ def jerk_limited(
         Tangent discontinuity threshold, rad (same meaning as in ``time_parameterize``).
     workers:
         Processes for the sections (independent problems; ``1`` solves in this process).
+    closed_form:
+        Solve the sections that are one straight line (collinear lines with one speed cap) by the
+        closed-form double-S of :mod:`trcopt.timing.jerk_lines` instead of the NLP (``False``: the
+        NLP on every section).
 
     Raises
     ------
@@ -343,7 +351,9 @@ def jerk_limited(
     feeds = segment_feeds(segments, machine)
     sections = split_sections(segments, arrays, tangent_tol_rad)
     vector = (machine.path.amax_mm_s2, machine.path.jmax_mm_s3)
-    ctx = (arrays, path_speed_caps(feeds, machine), vmax, amax, jmax, base.s, base.sd, cycle_s, points, vector)
+    ctx = (
+        arrays, path_speed_caps(feeds, machine), vmax, amax, jmax, base.s, base.sd, cycle_s, points, vector, closed_form
+    )
     if workers > 1 and len(sections) > 1:
         from concurrent.futures import ProcessPoolExecutor
 
@@ -383,17 +393,23 @@ def _init_worker(ctx: tuple | None) -> None:
 
 
 def _solve_section(sec: Section) -> tuple[Solution[SectionProfile], tuple[np.ndarray, np.ndarray]]:
-    """Solve one section; IPOPT may stop at a local infeasibility from a poor start, so retry from a
-    slower warm start, then on a doubled grid. Returns the solution and (knot nodes, Δq″ per knot)."""
+    """Solve one section: a line section in closed form (``closed``), else the NLP — first with the
+    fast IPOPT options; IPOPT may stop at a local infeasibility from a poor start, so retry with the
+    adaptive barrier, from a slower warm start, then on a doubled grid. Returns the solution and
+    (knot nodes, Δq″ per knot)."""
     assert _CTX is not None
-    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points, (path_amax, path_jmax) = _CTX
+    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points, (path_amax, path_jmax), closed = _CTX
+    if closed:
+        limits = line_section_limits(sec, arrays, feeds, vmax, amax, jmax, path_amax, path_jmax)
+        if limits is not None:
+            return line_section_profile(sec, arrays, limits), (np.zeros(0, dtype=np.int64), np.zeros((0, 3)))
     nseg = sec.last - sec.first + 1
     n0 = points if points is not None else min(60 + 30 * nseg, 600)
     spent = 0.0
-    for n_pts, scale in ((n0, 0.95), (n0, 0.5), (2 * n0, 0.7)):
+    for n_pts, scale, fast in ((n0, 0.95, True), (n0, 0.95, False), (n0, 0.5, False), (2 * n0, 0.7, False)):
         pb = JerkProblem(
             sec, arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s=cycle_s, points=n_pts, init_scale=scale,
-            path_amax=path_amax, path_jmax=path_jmax,
+            path_amax=path_amax, path_jmax=path_jmax, fast=fast,
         )
         sol = pb.solve()
         spent += sol.solve_time_s

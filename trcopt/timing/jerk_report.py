@@ -23,7 +23,8 @@ __all__ = ["JerkSamples", "JerkLimitReport", "jerk_limits", "METHOD", "KNOT_RULE
 METHOD = (
     "jerk-limited: CasADi/IPOPT NLP per section (triple integrator, constant path jerk between nodes fixed "
     "in arc length; per-axis v, a, jerk limits with exact q', q'', q'''), warm-started from the "
-    "acceleration-limited TOPP profile; speed and acceleration 0 at tangent discontinuities"
+    "acceleration-limited TOPP profile; sections of collinear lines with one feed: closed-form double-S; "
+    "speed and acceleration 0 at tangent discontinuities"
 )
 KNOT_RULE = (
     "curvature jumps passed at |dq''_k| v^2 <= jmax_k * cycle_s "
