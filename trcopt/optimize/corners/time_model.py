@@ -116,8 +116,10 @@ def _intervals(g: Line | Arc | Poly) -> tuple[np.ndarray, np.ndarray]:
         # a helix: the curvature of the plane circle times (plane length / length)²
         k = (g.plane_length / g.length) ** 2 / g.radius if g.length > 0 else 0.0
         return np.array([g.length]), np.full(2, k)
-    cum, _, _, K = g.arrays()
-    if K is None:
+    cum = np.asarray(g.cum, dtype=float)
+    if g.curvatures is not None:
+        K = np.asarray(g.curvatures, dtype=float)
+    else:
         from trcopt.geometry.poly import hermite_at
 
         K = hermite_at(g.arrays(), cum, 2)
