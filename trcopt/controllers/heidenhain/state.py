@@ -29,6 +29,7 @@ from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.vec import Vec3
 from trcopt.modes import ApprRadius, Side, parse_enum
+from trcopt.nc.limits import MAX_COORDINATE_MM
 from trcopt.nc.model import PathControl
 
 __all__ = [
@@ -213,7 +214,8 @@ class ReaderState:
                 raise BlockError(
                     Code.NC_RANGE,
                     f"word {w.text!r}: {w.value:.6g} is not a finite number within ±{MAX_WORD_VALUE:g} "
-                    "(trcopt.controllers.heidenhain.state.MAX_WORD_VALUE)",
+                    "(trcopt.controllers.heidenhain.state.MAX_WORD_VALUE; a coordinate must lie within "
+                    f"±{MAX_COORDINATE_MM:g} mm, trcopt.nc.limits.MAX_COORDINATE_MM)",
                     w.column,
                 )
             key = w.address
