@@ -7,7 +7,10 @@
 * :mod:`.contour` — the part contour, without approach/retraction and CAM lead blocks;
 * :mod:`.joints` — where the controller's own rules bring the tool nearer than R (near-tangent
   joints left as they are, the transitions at the contour's start and end, its closing joint);
-* :mod:`.index` — the uniform grid that keeps the clearance check linear in the plan's length.
+* :mod:`.index` — the uniform grid that keeps the clearance check linear in the plan's length;
+* :mod:`.table`, :mod:`.contact`, :mod:`.batch`, :mod:`.pairs`, :mod:`.clearance` — the path as
+  arrays and the residuals of whole paths at once (the values of the per-segment functions);
+* :mod:`.report` — the per-family result and its JSON and diagnostics.
 """
 
 from __future__ import annotations

@@ -30,12 +30,16 @@ against the entry and exit points (:mod:`trcopt.verify.joints`).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Container, Iterable, Sequence
 from dataclasses import dataclass
 
-from trcopt.path import Role, Segment
+import numpy as np
 
-__all__ = ["CLOSED_MM", "MAX_LEAD_BLOCKS", "Closing", "ContourBlocks", "contour_blocks", "part_contour"]
+from trcopt.geometry.vec import Vec3
+from trcopt.path import Role, Segment
+from trcopt.verify.table import SegmentTable, unique
+
+__all__ = ["CLOSED_MM", "MAX_LEAD_BLOCKS", "Closing", "ContourBlocks", "contour_blocks", "contour_rows", "part_contour"]
 
 MAX_LEAD_BLOCKS = 3  # lead-in (lead-out) blocks at most: a line, an arc, and one more
 CLOSED_MM = 1e-5  # a contour closes when its end point is within this of its start point, mm
@@ -78,24 +82,24 @@ class ContourBlocks:
     closings: tuple[Closing, ...] = ()
 
 
-def _runs(toolpath: Sequence[Segment], tool_lines: set[int], by_line: dict[int, list[Segment]]) -> list[list[int]]:
-    """Source lines of each run of consecutive compensated contour segments, in order, with the
-    omitted blocks in between; only lines with programmed contour elements."""
+def _runs(on: Iterable[bool], lines: Iterable[int], tool_lines: Container[int], has: Container[int]) -> list[list[int]]:
+    """Source lines of each run of consecutive compensated contour segments (``on``: a segment of
+    radius > 0 and role contour or corner; ``lines``: its source line), in order, with the omitted
+    blocks in between; only lines with programmed contour elements (``has``)."""
     runs: list[list[int]] = []
     run: list[int] = []
     last = None
-    for seg in toolpath:
-        if not (seg.radius > 0.0 and seg.role in (Role.CONTOUR, Role.CORNER)):
+    for flag, line in zip(on, lines, strict=True):
+        if not flag:
             if run:
                 runs.append(run)
             run, last = [], None
             continue
-        line = seg.span.line
         if line == last:
             continue
         if last is not None and line > last + 1:
-            run.extend(ln for ln in range(last + 1, line) if ln not in tool_lines and ln in by_line)
-        if line in by_line and line not in run[-1:]:
+            run.extend(ln for ln in range(last + 1, line) if ln not in tool_lines and ln in has)
+        if line in has and line not in run[-1:]:
             run.append(line)
         last = line
     if run:
@@ -103,16 +107,33 @@ def _runs(toolpath: Sequence[Segment], tool_lines: set[int], by_line: dict[int, 
     return runs
 
 
-def _loop(blocks: list[int], by_line: dict[int, list[Segment]]) -> tuple[int, int] | None:
-    """Indices (first, last) into ``blocks`` of the closed loop of one run, None for an open run."""
+def _loop(blocks: list[int], start_of: Callable[[int], Vec3], end_of: Callable[[int], Vec3]) -> tuple[int, int] | None:
+    """Indices (first, last) into ``blocks`` of the closed loop of one run, None for an open run
+    (``start_of``, ``end_of``: a block's programmed start and end point)."""
     m = len(blocks)
-    starts = [by_line[b][0].geometry.start for b in blocks]
-    ends = [by_line[b][-1].geometry.end for b in blocks]
+    starts = [start_of(b) for b in blocks[: MAX_LEAD_BLOCKS + 1]]
+    ends = {j: end_of(blocks[j]) for j in range(max(0, m - 1 - MAX_LEAD_BLOCKS), m)}
     for i in range(min(MAX_LEAD_BLOCKS + 1, m)):
         for j in range(m - 1, max(i, m - 1 - MAX_LEAD_BLOCKS) - 1, -1):
             if math.hypot(starts[i][0] - ends[j][0], starts[i][1] - ends[j][1]) <= CLOSED_MM:
                 return i, j
     return None
+
+
+def _split(runs: list[list[int]], start_of: Callable[[int], Vec3], end_of: Callable[[int], Vec3]) -> tuple[
+        frozenset[int], tuple[Closing, ...]]:  # fmt: skip
+    """The lead lines and the closing joints of the runs."""
+    lead_list: list[int] = []
+    closings: list[Closing] = []
+    for run in runs:
+        loop = _loop(run, start_of, end_of)
+        if loop is None:
+            continue
+        i, j = loop
+        lead_list += run[:i] + run[j + 1 :]
+        if j > i:
+            closings.append(Closing(run[i], run[j]))
+    return frozenset(lead_list), tuple(closings)
 
 
 def contour_blocks(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> ContourBlocks:
@@ -142,19 +163,48 @@ def contour_blocks(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -
     by_line: dict[int, list[Segment]] = {}
     for p in compensated:
         by_line.setdefault(p.span.line, []).append(p)
-    lead_list: list[int] = []
-    closings: list[Closing] = []
-    for run in _runs(toolpath, tool_lines, by_line):
-        loop = _loop(run, by_line)
-        if loop is None:
-            continue
-        i, j = loop
-        lead_list += run[:i] + run[j + 1 :]
-        if j > i:
-            closings.append(Closing(run[i], run[j]))
-    leads = frozenset(lead_list)
+    on = [s.radius > 0.0 and s.role in (Role.CONTOUR, Role.CORNER) for s in toolpath]
+    runs = _runs(on, [s.span.line for s in toolpath], tool_lines, by_line)
+    leads, closings = _split(runs, lambda b: by_line[b][0].geometry.start, lambda b: by_line[b][-1].geometry.end)
     part = [p for p in compensated if p.span.line not in leads] if leads else compensated
-    return ContourBlocks(compensated, part, leads, tuple(closings))
+    return ContourBlocks(compensated, part, leads, closings)
+
+
+def contour_rows(
+    programmed: Sequence[Segment], tool: SegmentTable, prog: SegmentTable
+) -> tuple[ContourBlocks, np.ndarray, np.ndarray]:
+    """:func:`contour_blocks` from the tables of the tool-centre path (``tool``) and of
+    ``programmed`` (``prog``), the same blocks, with the rows of ``compensated`` and ``part`` in
+    ``prog``."""
+    on = (tool.radius > 0.0) & tool.roles(Role.CONTOUR, Role.CORNER)
+    on_lines, tool_lines = unique(tool.line[on]), unique(tool.line)
+    if on_lines.size:
+        span = np.arange(on_lines[0], on_lines[-1] + 1)
+        on_lines = unique(np.concatenate((on_lines, span[~np.isin(span, tool_lines)])))
+    rows = np.nonzero(np.isin(prog.line, on_lines) & prog.roles(Role.CONTOUR, Role.RAPID) & (prog.plen > 0.0))[0]
+    compensated = [programmed[j] for j in rows.tolist()]
+    lines = prog.line[rows]
+    has, first = np.unique(lines, return_index=True)
+    last = len(lines) - 1 - np.unique(lines[::-1], return_index=True)[1]
+    where = {ln: j for j, ln in enumerate(has.tolist())}
+    runs = _runs(on.tolist(), tool.line.tolist(), set(tool_lines.tolist()), where)
+
+    def start_of(b: int) -> Vec3:
+        r = rows[first[where[b]]]
+        return (prog.sx[r], prog.sy[r], prog.sz[r])
+
+    def end_of(b: int) -> Vec3:
+        r = rows[last[where[b]]]
+        return (prog.ex[r], prog.ey[r], prog.ez[r])
+
+    leads, closings = _split(runs, start_of, end_of)
+    if leads:
+        keep = ~np.isin(lines, np.fromiter(leads, np.int64, len(leads)))
+        part_rows = rows[keep]
+        part = [p for p, k in zip(compensated, keep.tolist(), strict=True) if k]
+    else:
+        part_rows, part = rows, compensated
+    return ContourBlocks(compensated, part, leads, closings), rows, part_rows
 
 
 def part_contour(programmed: Sequence[Segment], toolpath: Sequence[Segment]) -> list[Segment]:

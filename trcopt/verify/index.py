@@ -151,8 +151,26 @@ class BoxGrid:
         qq, ii = np.concatenate(qs), np.concatenate(ids)
         b = self.boxes[ii]
         keep = (b[:, 0] <= hi_u[qq]) & (b[:, 2] >= lo_u[qq]) & (b[:, 1] <= hi_v[qq]) & (b[:, 3] >= lo_v[qq])
-        key = np.unique(qq[keep].astype(np.int64) * len(self.boxes) + ii[keep])
+        key = np.sort(qq[keep].astype(np.int64) * len(self.boxes) + ii[keep])
+        key = key[np.append(True, key[1:] != key[:-1])] if key.size else key  # np.unique's result, by a sort
         return (key // len(self.boxes)).astype(np.intp), (key % len(self.boxes)).astype(np.intp)
+
+    def nearest_many(self, pts: np.ndarray) -> np.ndarray:
+        """:meth:`nearest_distance` of many points (m×2) at once, the same values: the corners
+        within the first search radius in one batch (:meth:`near_many`), the rest one by one."""
+        pts = np.asarray(pts, float).reshape(-1, 2)
+        out = np.full(len(pts), math.inf)
+        if len(self.boxes) == 0 or len(pts) == 0:
+            return out
+        r = self.cell
+        pad = 1.001 * r + 1e-9
+        q, i = self.near_many(np.column_stack((pts, pts)), np.full(len(pts), pad))
+        c = self.boxes[i, :2]
+        np.minimum.at(out, q, np.hypot(c[:, 0] - pts[q, 0], c[:, 1] - pts[q, 1]))
+        # a corner within r of the point is within the padded square: the nearest of all
+        for j in np.nonzero(~(out <= r))[0].tolist():
+            out[j] = self.nearest_distance((float(pts[j, 0]), float(pts[j, 1])))
+        return out
 
     def nearest_distance(self, p: tuple[float, float]) -> float:
         """Smallest plane distance (mm) from ``p`` to the lower-left corners of the boxes (the

@@ -23,6 +23,9 @@ Three places, each identified from the geometry of the plan (never from a result
   block across the joint, the lead move ending (starting) there already comes that close — it is
   lead clearance (and shown as such); the first (last) block's tool path is a gouge only where it
   comes closer still.
+
+These functions measure one segment (joint) at a time; :mod:`trcopt.verify.batch` gives the same
+values for a whole path at once.
 """
 
 from __future__ import annotations

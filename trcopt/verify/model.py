@@ -32,6 +32,7 @@ __all__ = [
     "reversal_residual",
     "element_distance",
     "line_pair_distances",
+    "line_pair_distances_uv",
     "point_distance",
     "points_distance",
     "points_foot",
@@ -262,22 +263,30 @@ def line_pair_distances(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.n
     """Exact minimum plane distances (mm) between the segments ``p0p1`` and ``q0q1`` (each n×2):
     :func:`element_distance` of many pairs of lines at once — 0 where they cross, else the
     smallest distance of an end point to the other segment."""
+    return line_pair_distances_uv(p0[:, 0], p0[:, 1], p1[:, 0], p1[:, 1], q0[:, 0], q0[:, 1], q1[:, 0], q1[:, 1])
 
-    def point_segment(pt: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        d = b - a
-        dd = (d * d).sum(axis=1)
-        t = np.where(dd > 0.0, ((pt - a) * d).sum(axis=1) / np.where(dd > 0.0, dd, 1.0), 0.0)
+
+def line_pair_distances_uv(*coords: np.ndarray) -> np.ndarray:
+    """:func:`line_pair_distances` of the coordinate arrays p0u, p0v, p1u, p1v, q0u, q0v, q1u, q1v."""
+    p0u, p0v, p1u, p1v, q0u, q0v, q1u, q1v = coords
+
+    def point_segment(pu: Any, pv: Any, au: Any, av: Any, bu: Any, bv: Any) -> np.ndarray:
+        du, dv = bu - au, bv - av
+        dd = du * du + dv * dv
+        t = np.where(dd > 0.0, ((pu - au) * du + (pv - av) * dv) / np.where(dd > 0.0, dd, 1.0), 0.0)
         t = np.clip(t, 0.0, 1.0)
-        return np.hypot(pt[:, 0] - a[:, 0] - t * d[:, 0], pt[:, 1] - a[:, 1] - t * d[:, 1])
+        return np.hypot(pu - au - t * du, pv - av - t * dv)
 
-    def orient(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    def orient(au: Any, av: Any, bu: Any, bv: Any, cu: Any, cv: Any) -> np.ndarray:
+        return (bu - au) * (cv - av) - (bv - av) * (cu - au)
 
     ends = np.minimum(
-        np.minimum(point_segment(p0, q0, q1), point_segment(p1, q0, q1)),
-        np.minimum(point_segment(q0, p0, p1), point_segment(q1, p0, p1)),
+        np.minimum(point_segment(p0u, p0v, q0u, q0v, q1u, q1v), point_segment(p1u, p1v, q0u, q0v, q1u, q1v)),
+        np.minimum(point_segment(q0u, q0v, p0u, p0v, p1u, p1v), point_segment(q1u, q1v, p0u, p0v, p1u, p1v)),
     )
-    crossing = (orient(p0, p1, q0) * orient(p0, p1, q1) < 0.0) & (orient(q0, q1, p0) * orient(q0, q1, p1) < 0.0)
+    crossing = (orient(p0u, p0v, p1u, p1v, q0u, q0v) * orient(p0u, p0v, p1u, p1v, q1u, q1v) < 0.0) & (
+        orient(q0u, q0v, q1u, q1v, p0u, p0v) * orient(q0u, q0v, q1u, q1v, p1u, p1v) < 0.0
+    )
     return np.where(crossing, 0.0, ends)
 
 

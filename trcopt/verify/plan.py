@@ -36,174 +36,43 @@ limit) is measured against that construction in ``radius`` and ``tangency``
 A family over tolerance is a diagnostic (:meth:`VerificationReport.diagnostics`: ``VERIFY-…``, a
 warning, an error under ``--strict``) at the block of its worst segment.
 
-Closed forms and NumPy only. The clearance candidates come from a uniform grid over the part
-contour's bounding boxes (:class:`trcopt.verify.index.BoxGrid`), so a plan verifies in O(n): the
-same candidates, hence the same residuals, as filtering every box for every segment.
+Closed forms and NumPy only. The path is read once into arrays (:mod:`trcopt.verify.table`) and
+the residuals of the common elements — contour lines and arcs with one programmed element, the
+near-tangent continuations, transition circles, the joints, the clearance distances of lines and
+arcs — are computed as whole arrays by the same float operations as the per-segment formulas
+(:mod:`.contact`, :mod:`.batch`, :mod:`.pairs`), so they are the same values, bit for bit; the rare
+cases (SAR approach and retraction moves, blocks run more than once, polynomial curves, NaN) take
+the per-segment code. The clearance candidates come from a uniform grid over the part contour's
+bounding boxes (:class:`trcopt.verify.index.BoxGrid`), so a plan verifies in O(n): the same
+candidates, hence the same residuals, as filtering every box for every segment.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from trcopt.codes import Code
-from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry import Arc, Line
 from trcopt.path import Role, Segment
+from trcopt.verify.batch import KINDS, ContinuationTable, continuation_residual_arrays, continuation_table, pair_limits
 from trcopt.verify.clearance import clearance_distances
-from trcopt.verify.contour import contour_blocks
+from trcopt.verify.contact import LineIndex, at_offset_points, contour_residuals, programmed_turns, tangency
+from trcopt.verify.contour import contour_rows
 from trcopt.verify.index import BoxGrid
 from trcopt.verify.index import BoxGrid as _Grid
-from trcopt.verify.joints import (
-    NEAR_TANGENT,
-    activation_corners,
-    clearance_limits,
-    continuation_residuals,
-    continuations,
-)
-from trcopt.verify.model import bbox, carrier_residual, reversal_residual, tangency_residual
+from trcopt.verify.joints import NEAR_TANGENT
+from trcopt.verify.model import carrier_residual, reversal_residual, tangency_residual
+from trcopt.verify.report import FAMILIES, FAMILY_CODES, INFORMATIONAL, FamilyResidual, VerificationReport
+from trcopt.verify.table import ARC, LINE, OTHER, ROLE, SegmentTable, fmap, py_max
 
-__all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "FAMILIES", "FAMILY_CODES"]
+__all__ = ["FamilyResidual", "VerificationReport", "verify_plan", "FAMILIES", "FAMILY_CODES", "INFORMATIONAL"]
 
-FAMILIES = ("radius", "tangency", "continuity", "no_reversal", "clearance", "lead_clearance")
-INFORMATIONAL = ("lead_clearance",)
-_UNITS = {
-    "radius": "mm",
-    "tangency": "",
-    "continuity": "mm",
-    "no_reversal": "mm",
-    "clearance": "mm",
-    "lead_clearance": "mm",
-}
-FAMILY_CODES = {
-    "radius": Code.VERIFY_RADIUS,
-    "tangency": Code.VERIFY_TANGENCY,
-    "continuity": Code.VERIFY_CONTINUITY,
-    "no_reversal": Code.VERIFY_NO_REVERSAL,
-    "clearance": Code.VERIFY_CLEARANCE,
-}
-_FAILURE = {
-    "radius": "a compensated tool-centre element is not at the tool radius from its programmed element",
-    "tangency": "a joint of the tool-centre path that must be tangent is not (or an offset element runs "
-    "against its programmed element)",
-    "continuity": "consecutive tool-centre segments do not meet",
-    "no_reversal": "the infeed reverses its direction during an approach or retraction",
-    "clearance": "the tool comes closer than its radius to the part contour (a gouge)",
-}
 _COMPENSATED_ROLES = (Role.CONTOUR, Role.CORNER, Role.APPROACH, Role.RETRACT)
 _TANGENT_PROGRAMMED_RAD = 1e-7  # programmed joints tangent within this are verified as tangent
-_OFFSET_POINT_TOL_MM = 1e-6  # a joint this close to the offset point is the tangent joint, mm
-
-
-@dataclass(slots=True)
-class FamilyResidual:
-    """Largest residual of one constraint family and where it occurs."""
-
-    name: str
-    max_residual: float = 0.0
-    checks: int = 0
-    segment: int | None = None
-    block: str | None = None
-    line: int | None = None
-    span: SourceSpan | None = None  # of the worst segment (for the diagnostic; not in the JSON)
-
-    @property
-    def unit(self) -> str:
-        return _UNITS[self.name]
-
-    def add(self, value: float, k: int, seg: Segment) -> None:
-        self.checks += 1
-        if value > self.max_residual or self.segment is None and value >= self.max_residual:
-            self.max_residual = float(value)
-            self.segment, self.block, self.line, self.span = k, seg.span.block, seg.span.line, seg.span
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "max_residual": self.max_residual,
-            "unit": self.unit,
-            "checks": self.checks,
-            "segment": self.segment,
-            "block": self.block,
-            "line": self.line,
-        }
-
-
-@dataclass(slots=True)
-class VerificationReport:
-    """Per-family residuals of a tool-centre path; ``ok`` when all are within ``tolerance``."""
-
-    families: dict[str, FamilyResidual]
-    tolerance: float = 1e-6
-    seconds: float = 0.0
-    notes: list[str] = field(default_factory=list)
-
-    @property
-    def ok(self) -> bool:
-        """All model families within tolerance (``lead_clearance`` is informational)."""
-        return not self.failed
-
-    @property
-    def failed(self) -> list[FamilyResidual]:
-        return [f for f in self.families.values() if f.max_residual > self.tolerance and f.name not in INFORMATIONAL]
-
-    def max_residual(self, family: str) -> float:
-        return self.families[family].max_residual
-
-    def to_json(self) -> dict[str, Any]:
-        """The plan JSON key ``"verification"``."""
-        return {
-            "ok": self.ok,
-            "tolerance": self.tolerance,
-            "families": {k: f.to_json() for k, f in self.families.items()},
-            "notes": list(self.notes),
-        }
-
-    def summary_line(self) -> str:
-        """One line for the CLI summary."""
-        parts = [f"{f.name} {f.max_residual:.1e}" for f in self.families.values()]
-        head = "verification: " + ", ".join(parts)
-        if self.ok:
-            return head + " — ok"
-        bad = "; ".join(
-            f"{f.name} violated by {f.max_residual:.6g}{' ' + f.unit if f.unit else ''} "
-            f"at {f.block or f'line {f.line}'} (segment {f.segment})"
-            for f in self.failed
-        )
-        return head + " — FAILED: " + bad
-
-    def diagnostics(self, *, strict: bool = False) -> list[Diagnostic]:
-        """One diagnostic per failed family (``VERIFY-CLEARANCE``, …) at the block and line of its
-        worst segment: a warning, or an error when ``strict``."""
-        severity = Severity.ERROR if strict else Severity.WARNING
-        out = []
-        for f in self.failed:
-            unit = f" {f.unit}" if f.unit else ""
-            out.append(
-                Diagnostic(
-                    severity,
-                    FAMILY_CODES[f.name],
-                    f"verification: {_FAILURE[f.name]}: {f.name} residual {f.max_residual:.6g}{unit} "
-                    f"(tolerance {self.tolerance:g}) at tool-centre segment {f.segment}",
-                    f.span or SourceSpan(),
-                )
-            )
-        return out
-
-    def lead_note(self) -> str | None:
-        """A note when a NORM/KONT activation or deselection move or a lead block comes closer
-        than R to the part contour (the controller's construction does that when the program's
-        start or end point is close to the contour); None otherwise."""
-        f = self.families["lead_clearance"]
-        if f.max_residual <= self.tolerance:
-            return None
-        return (
-            f"approach/retraction/lead move at {f.block or f'line {f.line}'} (segment {f.segment}) comes "
-            f"{f.max_residual:.6g} mm closer than the tool radius to the contour"
-        )
+_LEADS = (Role.APPROACH, Role.RETRACT)
 
 
 def _sar_specs(moves: Sequence[Any] | None) -> dict[int, Any]:
@@ -238,21 +107,6 @@ def _signed_offset(tool: Segment, prog: Line | Arc) -> float:
     return prog.sense * (prog.radius - math.hypot(p[0] - prog.center[0], p[1] - prog.center[1]))
 
 
-def _at_offset_point(seg: Segment, prog_by_line: dict[int, list[Segment]], *, start: bool) -> bool:
-    """True if the contour segment starts (ends) at the offset of its programmed element's start
-    (end) point, at R on its side — where a transition circle joins it tangentially."""
-    progs = prog_by_line.get(seg.span.line, [])
-    if not progs:
-        return True
-    pe = progs[0].geometry if start else progs[-1].geometry
-    p = pe.start if start else pe.end
-    t = pe.start_tangent() if start else pe.end_tangent()
-    k = seg.side.sign * seg.radius
-    offset = (p[0] - k * t[1], p[1] + k * t[0])
-    joint = seg.geometry.start if start else seg.geometry.end
-    return math.dist(offset, joint[:2]) <= _OFFSET_POINT_TOL_MM
-
-
 def _programmed_tangent_at(prog: Line | Arc, p: tuple[float, float]) -> tuple[float, float]:
     if isinstance(prog, Line):
         return prog.direction2()
@@ -274,6 +128,251 @@ def _allowed_note(kind: str, amount: float, seg: Segment, near_tangent_rad: floa
         f"paths come up to {amount:.6g} mm closer than R to the block across it (at {where}), as close as "
         "the entry or exit point itself (lead clearance) — not counted as a gouge"
     )
+
+
+def _radius_one(
+    seg: Segment, prog_by_line: dict[int, list[Segment]], specs: dict[int, Any], toolpath: Sequence[Segment], k: int,
+    dv: float,
+) -> tuple[float | None, float | None]:
+    """(radius, tangency) residual of one compensated segment that is not a continuation, one by
+    one (None: not measured); ``dv``: an arc's centre's distance to the nearest programmed vertex."""
+    g, R = seg.geometry, seg.radius
+    if seg.role is Role.CONTOUR and isinstance(g, (Line, Arc)):
+        cands = [p.geometry for p in prog_by_line.get(seg.span.line, []) if isinstance(p.geometry, (Line, Arc))]
+        if not cands:
+            return None, None
+        side = seg.side.sign
+        # the distance error along the element and the side at its start: the larger of the
+        # two (at the start they measure the same error; a sum would count it twice)
+        resid = [max(carrier_residual(g, pg, R), abs(_signed_offset(seg, pg) - side * R)) for pg in cands]
+        # a block run more than once (subprogram, repeat, transformed frames) has one element
+        # per run: among the equally good, the run whose element starts nearest the tool
+        least = min(resid)
+        best = min(
+            (pg for pg, r in zip(cands, resid, strict=True) if r <= least + 1e-9),
+            key=lambda pg: math.dist(pg.start[:2], g.point2(0.0)),
+        )
+        radius = max(carrier_residual(g, best, R), abs(_signed_offset(seg, best) - side * R))
+        return radius, tangency_residual(g.start_tangent(), _programmed_tangent_at(best, g.point2(0.0)))
+    if isinstance(g, Line) and seg.role in _LEADS:
+        # SAR G147/G148: the lead line touching the contour has plane length L = DISR + R
+        sar = _sar_for(seg.span.line, specs, seg.role)
+        nb = toolpath[k + 1] if seg.role is Role.APPROACH and k + 1 < len(toolpath) else None
+        if seg.role is Role.RETRACT and k > 0:
+            nb = toolpath[k - 1]
+        if sar is not None and sar.disr is not None and sar.contour.value in ("G147", "G148"):
+            if nb is not None and nb.role is Role.CONTOUR:
+                return abs(g.plane_length - (sar.disr + R)), None
+    elif isinstance(g, Arc):
+        sar = _sar_for(seg.span.line, specs) if seg.role in _LEADS else None
+        if seg.role is Role.CORNER or dv <= 1e-6:
+            return dv + abs(g.radius - R), None
+        if sar is not None and sar.disr is not None and not sar.contour.value.startswith("G14"):
+            return abs(g.radius - sar.disr), None
+    return None, None
+
+
+def _contact(tool: SegmentTable, prog: SegmentTable, comp: SegmentTable, conts: ContinuationTable, vertices: Any,
+             toolpath: Sequence[Segment], compensated: Sequence[Segment], specs: dict[int, Any],
+             fam: dict[str, FamilyResidual]) -> None:
+    """The ``radius`` and ``tangency`` residual of every compensated element (see the module
+    docstring), in path order."""
+    n = len(tool)
+    radius, tangent = np.full(n, np.nan), np.full(n, np.nan)
+    has_r, has_t = np.zeros(n, bool), np.zeros(n, bool)
+    base = ~(tool.radius <= 0.0) & ~(tool.plen <= 0.0) & tool.roles(*_COMPENSATED_ROLES)
+    rest = base.copy()
+    rest[conts.k] = False
+    rows = np.nonzero(base[conts.k])[0]
+    if rows.size:  # a near-tangent joint left as it is: the line starts where the tool is
+        k = conts.k[rows]
+        radius[k], tangent[k] = continuation_residual_arrays(tool, prog, conts, rows)
+        has_r[k] = has_t[k] = True
+    one_by_one: list[int] = []
+    contour = rest & (tool.role == ROLE[Role.CONTOUR]) & (tool.kind != OTHER)
+    ks = np.nonzero(contour)[0]
+    cands = LineIndex(comp.line, np.nonzero(comp.kind != OTHER)[0])
+    found, pos = cands.find(tool.line[ks])
+    count = np.where(found, cands.count[pos], 0) if found.any() else np.zeros(len(ks), np.intp)
+    one = count == 1
+    if one.any():
+        k = ks[one]
+        r, t = contour_residuals(tool, comp, k, cands.first[pos[one]])
+        ok = ~(np.isnan(r) | np.isnan(t))
+        radius[k[ok]], tangent[k[ok]] = r[ok], t[ok]
+        has_r[k[ok]] = has_t[k[ok]] = True
+        one_by_one += k[~ok].tolist()
+    one_by_one += ks[count > 1].tolist()
+    leads = rest & ~contour & (tool.kind == LINE) & tool.roles(*_LEADS)
+    one_by_one += np.nonzero(leads)[0].tolist()
+    arcs = np.nonzero(rest & ~contour & (tool.kind == ARC))[0]
+    near = getattr(vertices, "nearest_many", None)
+    centres = np.column_stack((tool.cx[arcs], tool.cy[arcs]))
+    dv = np.full(n, np.nan)
+    if near is not None:
+        dv[arcs] = near(centres)
+    else:  # a filter without the batch query (a reference filter in the tests)
+        dv[arcs] = [vertices.nearest_distance((float(u), float(v))) for u, v in centres]
+    corner = (tool.role[arcs] == ROLE[Role.CORNER]) | (dv[arcs] <= 1e-6)
+    k = arcs[corner]
+    radius[k] = dv[k] + np.abs(tool.r[k] - tool.radius[k])
+    has_r[k] = True
+    one_by_one += arcs[~corner & tool.roles(*_LEADS)[arcs]].tolist()
+    prog_by_line: dict[int, list[Segment]] = {}  # the compensated elements of the lines measured one by one
+    need = {toolpath[k].span.line for k in one_by_one}
+    for p in compensated if need else ():
+        if p.span.line in need:
+            prog_by_line.setdefault(p.span.line, []).append(p)
+    for j in one_by_one:
+        rj, tj = _radius_one(toolpath[j], prog_by_line, specs, toolpath, j, float(dv[j]))
+        if rj is not None:
+            radius[j], has_r[j] = rj, True
+        if tj is not None:
+            tangent[j], has_t[j] = tj, True
+    fam["radius"].add_many(radius[has_r], np.nonzero(has_r)[0], toolpath)
+    fam["tangency"].add_many(tangent[has_t], np.nonzero(has_t)[0], toolpath)
+
+
+def _joints(tool: SegmentTable, prog: SegmentTable, comp: SegmentTable, conts: ContinuationTable,
+            toolpath: Sequence[Segment], specs: dict[int, Any], fam: dict[str, FamilyResidual]) -> None:
+    """``continuity`` of every joint and ``tangency`` of those that must be tangent: a transition
+    circle (corner, KONT arc) with the offset contour element it joins at the offset end (start)
+    point of its programmed element — where the circle was cut by the neighbouring offset (the
+    end point behind the contour, R35) the joint is an intersection by construction, and two
+    circles meeting at an intersection (CDON omitted blocks) are not tangent —, the lead contour
+    at P4, offsets of tangent programmed joints."""
+    n = len(tool)
+    if n < 2:
+        return
+    a = np.arange(n - 1)
+    b = a + 1
+    gap = fmap(math.hypot, tool.ex[a] - tool.sx[b], tool.ey[a] - tool.sy[b], tool.ez[a] - tool.sz[b])
+    fam["continuity"].add_many(gap, b, toolpath)
+    ok = ~(tool.radius[a] <= 0.0) & ~(tool.radius[b] <= 0.0) & ~(tool.plen[a] <= 0.0) & ~(tool.plen[b] <= 0.0)
+    ra, rb = tool.role[a], tool.role[b]
+    contour, approach, retract = ROLE[Role.CONTOUR], ROLE[Role.APPROACH], ROLE[Role.RETRACT]
+    circles = [ROLE[Role.CORNER], approach, retract]
+    transition = np.isin(ra, circles), np.isin(rb, circles)
+    required = np.zeros(n - 1, bool)
+    index = LineIndex(comp.line)
+    into = np.nonzero(ok & (tool.kind[a] == ARC) & transition[0] & (rb == contour))[0]
+    required[into] = at_offset_points(tool, comp, index, b[into], start=True)
+    out_of = np.nonzero(ok & ~required & (tool.kind[b] == ARC) & transition[1] & (ra == contour))[0]
+    required[out_of] = at_offset_points(tool, comp, index, a[out_of], start=False)
+    for j in np.nonzero(ok & ~required & (ra == approach) & (rb == contour))[0].tolist():
+        sar = _sar_for(toolpath[j].span.line, specs, Role.APPROACH)
+        required[j] = sar is not None and sar.contour.is_approach  # tangent entry at P4
+    for j in np.nonzero(ok & ~required & (rb == retract) & (ra == contour))[0].tolist():
+        sar = _sar_for(toolpath[j + 1].span.line, specs, Role.RETRACT)
+        required[j] = sar is not None and not sar.contour.is_approach
+    both = np.nonzero(ok & ~required & (ra == contour) & (rb == contour))[0]
+    has, turn = programmed_turns(tool, comp, index, a[both])
+    required[both] = has & (turn <= _TANGENT_PROGRAMMED_RAD)
+    rows = np.nonzero(required)[0]
+    su, sv, eu, ev = tool.tangents()
+    tu, tv = eu[a[rows]], ev[a[rows]]
+    # a near-tangent line left as it is ends on its offset carrier, not parallel to it: the
+    # transition circle after it is tangent to the carrier
+    row = np.full(n, -1)
+    row[conts.k] = np.arange(len(conts))
+    c = row[a[rows]]
+    on = np.nonzero(c >= 0)[0]
+    if on.size:
+        _, _, peu, pev = prog.tangents()
+        tu[on], tv[on] = peu[conts.programmed[c[on]]], pev[conts.programmed[c[on]]]
+    fam["tangency"].add_many(tangency(tu, tv, su[b[rows]], sv[b[rows]]), b[rows], toolpath)
+
+
+def _no_reversal(
+    tool: SegmentTable, toolpath: Sequence[Segment], specs: dict[int, Any], fam: dict[str, FamilyResidual]
+) -> None:
+    """SAR blocks: w1 → w2 → w3 → w4 over the block's sub-movements (and, on approach, the lead
+    contour executed in the following block), P0 excluded (R42); other leads: each run of
+    approach (retraction) segments."""
+    used: set[int] = set()
+    n = len(toolpath)
+    if specs:
+        order = np.argsort(tool.line, kind="stable")
+        lines = tool.line[order]
+    for line, sar in specs.items():
+        idx = sorted(order[np.searchsorted(lines, line) : np.searchsorted(lines, line, "right")].tolist())
+        if not idx:
+            continue
+        if sar.contour.is_approach:
+            j = idx[-1]
+            while j + 1 < n and toolpath[j + 1].role is Role.APPROACH:
+                j += 1
+                idx.append(j)
+            ws = [toolpath[i].geometry.end[2] for i in idx]  # from P1 on
+        else:
+            ws = [toolpath[idx[0]].geometry.start[2]] + [toolpath[i].geometry.end[2] for i in idx[:-1]]
+        used.update(idx)
+        fam["no_reversal"].add(reversal_residual(ws), idx[0], toolpath[idx[0]])
+    after = 0
+    for k in np.nonzero(tool.roles(*_LEADS))[0].tolist():
+        if k < after or k in used:
+            continue
+        role = tool.role[k]
+        j = k
+        while j + 1 < n and tool.role[j + 1] == role and j + 1 not in used:
+            j += 1
+        ws = [float(tool.sz[k]), *tool.ez[k : j + 1].tolist()]
+        fam["no_reversal"].add(reversal_residual(ws), k, toolpath[k])
+        after = j + 1
+
+
+def _lead_segments(tool: SegmentTable, toolpath: Sequence[Segment], lead_lines: frozenset[int],
+                   specs: dict[int, Any]) -> np.ndarray:
+    """Which segments are lead moves (measured as ``lead_clearance``): approach and retraction
+    (not SAR), the transitions around the contour's start and end point
+    (:func:`~trcopt.verify.joints.activation_corners`), lead blocks."""
+    n = len(tool)
+    out = np.isin(tool.line, np.fromiter(lead_lines, np.int64, len(lead_lines)))
+    corner = tool.role == ROLE[Role.CORNER]
+    for k in np.nonzero(tool.roles(*_LEADS))[0].tolist():
+        step = 1 if tool.role[k] == ROLE[Role.APPROACH] else -1
+        j = k + step
+        while 0 <= j < n and corner[j]:
+            out[j] = True
+            j += step
+        seg = toolpath[k]
+        if _sar_for(seg.span.line, specs, seg.role) is None:
+            out[k] = True
+    return out
+
+
+def _clearance(tool: SegmentTable, part_table: SegmentTable, toolpath: Sequence[Segment], blocks: Any, grid: Any,
+               part_of: np.ndarray, conts: ContinuationTable, leads: np.ndarray, fam: dict[str, FamilyResidual],
+               tolerance: float, near_tangent_rad: float) -> list[str]:
+    """``clearance`` and ``lead_clearance``: each part element is measured against R, or against
+    the limit of a near-tangent joint or of the closing joint (:mod:`trcopt.verify.joints`);
+    the notes of the limits used."""
+    measured, pk, pi, dist = clearance_distances(toolpath, blocks.part, grid, _COMPENSATED_ROLES, tool, part_table)
+    ks = np.asarray(measured, dtype=np.intp)
+    if ks.size == 0:
+        return []
+    slot = np.searchsorted(ks, pk)
+    limited, lim, lim_kind = pair_limits(toolpath, tool, blocks, part_table.line, part_of, conts, leads, pk, pi)
+    # R − distance, or the pair's own limit − distance; the largest per tool segment (NaN-free)
+    worst = np.zeros(len(ks))
+    np.fmax.at(worst, slot, np.where(limited, lim, tool.radius[pk]) - dist)
+    worst = py_max(np.zeros(len(ks)), worst)
+    lead = leads[ks]
+    fam["lead_clearance"].add_many(worst[lead], ks[lead], toolpath)
+    fam["clearance"].add_many(worst[~lead], ks[~lead], toolpath)
+    # how much closer than R the limits let the tool come: per kind, the largest (first) one
+    n = np.nonzero(limited)[0]
+    excused = tool.radius[pk[n]] - py_max(dist[n], lim[n])
+    kind = lim_kind[n]
+    firsts = []
+    for code in np.unique(kind).tolist():
+        e = np.where(kind == code, excused, np.nan)
+        pos = np.nonzero(e > 0.0)[0]
+        if pos.size:
+            best = int(np.argmax(e == np.nanmax(e)))
+            firsts.append((int(pos[0]), KINDS[code], float(e[best]), int(pk[n[best]])))
+    return [_allowed_note(kind, amount, toolpath[k], near_tangent_rad)
+            for _, kind, amount, k in sorted(firsts) if amount > tolerance]  # fmt: skip
 
 
 def verify_plan(
@@ -307,189 +406,31 @@ def verify_plan(
 
     t0 = time.perf_counter()
     fam = {name: FamilyResidual(name) for name in FAMILIES}
-    notes: list[str] = []
     specs = _sar_specs(moves)
 
-    blocks = contour_blocks(programmed, toolpath)
-    part, lead_lines = blocks.part, blocks.lead_lines
-    prog_by_line: dict[int, list[Segment]] = {}
-    for p in blocks.compensated:
-        prog_by_line.setdefault(p.span.line, []).append(p)
+    tool, prog = SegmentTable(toolpath), SegmentTable(programmed)
+    blocks, comp_rows, part_rows = contour_rows(programmed, tool, prog)
+    part = blocks.part
+    comp, part_table = prog.take(comp_rows, blocks.compensated), prog.take(part_rows, part)
+    part_of = np.full(len(programmed), -1, np.intp)
+    part_of[part_rows] = np.arange(len(part))
     # programmed vertices (the centres of transition circles) and the part's boxes, indexed
-    vertices = BoxGrid(np.array([[*p.geometry.start[:2], *p.geometry.start[:2]] for p in blocks.compensated]))
-    boxes = np.array([bbox(p.geometry) for p in part]) if part else np.zeros((0, 4))
+    vertices = BoxGrid(np.column_stack((comp.sx, comp.sy, comp.sx, comp.sy)))
+    boxes = part_table.bboxes(np.arange(len(part))) if part else np.zeros((0, 4))
     # cells fitted to the queries (an element and R around it); a reference filter put in the
     # grid's place (tests, benchmarks) takes the boxes alone
-    margin = max((seg.radius for seg in toolpath if seg.radius > 0.0), default=0.0)
+    positive = tool.radius[tool.radius > 0.0]
+    margin = float(positive.max()) if positive.size else 0.0
     grid = BoxGrid(boxes, margin=margin) if BoxGrid is _Grid else BoxGrid(boxes)
-    conts = continuations(toolpath, programmed, near_tangent_rad, blocks.closings)
+    conts = continuation_table(tool, prog, near_tangent_rad, blocks.closings)
 
-    # ---- radius (contact) and element direction -------------------------------------------
-    for k, seg in enumerate(toolpath):
-        g = seg.geometry
-        if seg.radius <= 0.0 or g.plane_length <= 0.0 or seg.role not in _COMPENSATED_ROLES:
-            continue
-        R = seg.radius
-        if k in conts:  # a near-tangent joint left as it is: the line starts where the tool is
-            radius, tangency = continuation_residuals(seg, conts[k])
-            fam["radius"].add(radius, k, seg)
-            fam["tangency"].add(tangency, k, seg)
-        elif seg.role is Role.CONTOUR and isinstance(g, (Line, Arc)):
-            cands = [p.geometry for p in prog_by_line.get(seg.span.line, []) if isinstance(p.geometry, (Line, Arc))]
-            if not cands:
-                continue
-            side = seg.side.sign
-            # the distance error along the element and the side at its start: the larger of the
-            # two (at the start they measure the same error; a sum would count it twice)
-            resid = [max(carrier_residual(g, pg, R), abs(_signed_offset(seg, pg) - side * R)) for pg in cands]
-            # a block run more than once (subprogram, repeat, transformed frames) has one element
-            # per run: among the equally good, the run whose element starts nearest the tool
-            least = min(resid)
-            best = min(
-                (pg for pg, r in zip(cands, resid, strict=True) if r <= least + 1e-9),
-                key=lambda pg: math.dist(pg.start[:2], g.point2(0.0)),
-            )
-            fam["radius"].add(max(carrier_residual(g, best, R), abs(_signed_offset(seg, best) - side * R)), k, seg)
-            p0 = g.point2(0.0)
-            fam["tangency"].add(tangency_residual(g.start_tangent(), _programmed_tangent_at(best, p0)), k, seg)
-        elif isinstance(g, Line) and seg.role in (Role.APPROACH, Role.RETRACT):
-            # SAR G147/G148: the lead line touching the contour has plane length L = DISR + R
-            sar = _sar_for(seg.span.line, specs, seg.role)
-            nb = toolpath[k + 1] if seg.role is Role.APPROACH and k + 1 < len(toolpath) else None
-            if seg.role is Role.RETRACT and k > 0:
-                nb = toolpath[k - 1]
-            if sar is not None and sar.disr is not None and sar.contour.value in ("G147", "G148"):
-                if nb is not None and nb.role is Role.CONTOUR:
-                    fam["radius"].add(abs(g.plane_length - (sar.disr + R)), k, seg)
-        elif isinstance(g, Arc):
-            dv = vertices.nearest_distance(g.center)
-            sar = _sar_for(seg.span.line, specs) if seg.role in (Role.APPROACH, Role.RETRACT) else None
-            if seg.role is Role.CORNER or dv <= 1e-6:
-                fam["radius"].add(dv + abs(g.radius - R), k, seg)
-            elif sar is not None and sar.disr is not None and not sar.contour.value.startswith("G14"):
-                fam["radius"].add(abs(g.radius - sar.disr), k, seg)
-
-    # ---- joints: continuity and tangency ---------------------------------------------------
-    # a transition circle (corner, KONT arc) is tangent to the offset contour element it joins;
-    # two circles meeting at an intersection (CDON omitted blocks) are not
-    transition = (Role.CORNER, Role.APPROACH, Role.RETRACT)
-    end_tangents: dict[int, Any] = {}  # line → end tangent of its last programmed element
-    start_tangents: dict[int, Any] = {}  # line → start tangent of its first one
-    for k in range(len(toolpath) - 1):
-        a, b = toolpath[k], toolpath[k + 1]
-        fam["continuity"].add(math.dist(a.geometry.end, b.geometry.start), k + 1, b)
-        if a.radius <= 0.0 or b.radius <= 0.0:
-            continue
-        ga, gb = a.geometry, b.geometry
-        if ga.plane_length <= 0.0 or gb.plane_length <= 0.0:
-            continue
-        # ... at the offset end (start) point of its programmed element; where the circle was cut
-        # by the neighbouring offset (the end point behind the contour, R35) the joint is an
-        # intersection by construction
-        required = (
-            isinstance(ga, Arc)
-            and a.role in transition
-            and b.role is Role.CONTOUR
-            and _at_offset_point(b, prog_by_line, start=True)
-        ) or (
-            isinstance(gb, Arc)
-            and b.role in transition
-            and a.role is Role.CONTOUR
-            and _at_offset_point(a, prog_by_line, start=False)
-        )
-        if not required and a.role is Role.APPROACH and b.role is Role.CONTOUR:
-            sar = _sar_for(a.span.line, specs, Role.APPROACH)
-            required = sar is not None and sar.contour.is_approach  # tangent entry at P4
-        if not required and b.role is Role.RETRACT and a.role is Role.CONTOUR:
-            sar = _sar_for(b.span.line, specs, Role.RETRACT)
-            required = sar is not None and not sar.contour.is_approach
-        if not required and a.role is Role.CONTOUR and b.role is Role.CONTOUR:
-            la, lb = a.span.line, b.span.line
-            if prog_by_line.get(la) and prog_by_line.get(lb):
-                ta = end_tangents.get(la)
-                if ta is None:
-                    ta = end_tangents[la] = prog_by_line[la][-1].geometry.end_tangent()
-                tb = start_tangents.get(lb)
-                if tb is None:
-                    tb = start_tangents[lb] = prog_by_line[lb][0].geometry.start_tangent()
-                required = abs(math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])) <= (
-                    _TANGENT_PROGRAMMED_RAD
-                )
-        if required:
-            # a near-tangent line left as it is ends on its offset carrier, not parallel to it:
-            # the transition circle after it is tangent to the carrier
-            end_tangent = conts[k].programmed.geometry.end_tangent() if k in conts else ga.end_tangent()
-            fam["tangency"].add(tangency_residual(end_tangent, gb.start_tangent()), k + 1, b)
-
-    # ---- no reversal of the infeed axis -----------------------------------------------------
-    # SAR blocks: w1 → w2 → w3 → w4 over the block's sub-movements (and, on approach, the lead
-    # contour executed in the following block), P0 excluded (R42); other leads: each run of
-    # approach (retraction) segments.
-    used: set[int] = set()
-    for line, sar in specs.items():
-        idx = [k for k, sg in enumerate(toolpath) if sg.span.line == line]
-        if not idx:
-            continue
-        if sar.contour.is_approach:
-            j = idx[-1]
-            while j + 1 < len(toolpath) and toolpath[j + 1].role is Role.APPROACH:
-                j += 1
-                idx.append(j)
-            ws = [toolpath[i].geometry.end[2] for i in idx]  # from P1 on
-        else:
-            ws = [toolpath[idx[0]].geometry.start[2]] + [toolpath[i].geometry.end[2] for i in idx[:-1]]
-        used.update(idx)
-        fam["no_reversal"].add(reversal_residual(ws), idx[0], toolpath[idx[0]])
-    k = 0
-    while k < len(toolpath):
-        role = toolpath[k].role
-        if role not in (Role.APPROACH, Role.RETRACT) or k in used:
-            k += 1
-            continue
-        j = k
-        while j + 1 < len(toolpath) and toolpath[j + 1].role is role and j + 1 not in used:
-            j += 1
-        ws = [toolpath[k].geometry.start[2]] + [toolpath[i].geometry.end[2] for i in range(k, j + 1)]
-        fam["no_reversal"].add(reversal_residual(ws), k, toolpath[k])
-        k = j + 1
-
-    # ---- clearance from the whole programmed contour (no gouge) ---------------------------
-    # lead moves: approach and retraction (not SAR), the transitions around the contour's start
-    # and end point, lead blocks; each part element is measured against R, or against the
-    # limit of a near-tangent joint or of the closing joint (verify.joints)
-    activation = activation_corners(toolpath)
-    leads = {
-        k
-        for k, seg in enumerate(toolpath)
-        if seg.span.line in lead_lines
-        or k in activation
-        or (seg.role in (Role.APPROACH, Role.RETRACT) and _sar_for(seg.span.line, specs, seg.role) is None)
-    }
-    limits = clearance_limits(toolpath, blocks, conts, leads)
-    allowed: dict[str, tuple[float, int]] = {}  # kind → (largest R − distance within its limit, segment)
-    measured, pk, pi, dist = clearance_distances(toolpath, part, grid, _COMPENSATED_ROLES)
-    # the pairs without a limit of their own: R − distance, largest per tool segment, all at once
-    radius_of = np.array([toolpath[k].radius for k in measured], float)
-    slot = np.searchsorted(np.array(measured, dtype=np.intp), pk)
-    width = max(len(part), 1)
-    limit_keys = np.fromiter((k * width + i for k, own in limits.items() for i in own), np.int64)
-    limited = np.isin(pk.astype(np.int64) * width + pi, limit_keys)  # the pairs with a limit of their own
-    worst_of = np.zeros(len(measured))
-    free = ~limited
-    np.fmax.at(worst_of, slot[free], radius_of[slot[free]] - dist[free])  # NaN-free max, as max() over the pairs
-    worst_by = dict(zip(measured, worst_of.tolist(), strict=True))
-    for n in np.nonzero(limited)[0].tolist():
-        k, i, d = int(pk[n]), int(pi[n]), float(dist[n])
-        lim = limits[k][i]
-        worst_by[k] = max(worst_by[k], lim.distance - d)
-        excused = toolpath[k].radius - max(d, lim.distance)
-        if excused > allowed.get(lim.kind, (0.0, -1))[0]:
-            allowed[lim.kind] = (excused, k)
-    for k in measured:
-        fam["lead_clearance" if k in leads else "clearance"].add(max(0.0, worst_by[k]), k, toolpath[k])
-    for kind, (amount, k) in allowed.items():
-        if amount > tolerance:
-            notes.append(_allowed_note(kind, amount, toolpath[k], near_tangent_rad))
+    _contact(tool, prog, comp, conts, vertices, toolpath, blocks.compensated, specs, fam)
+    _joints(tool, prog, comp, conts, toolpath, specs, fam)
+    _no_reversal(tool, toolpath, specs, fam)
+    leads = _lead_segments(tool, toolpath, blocks.lead_lines, specs)
+    notes = _clearance(
+        tool, part_table, toolpath, blocks, grid, part_of, conts, leads, fam, tolerance, near_tangent_rad
+    )
 
     if settings is not None and getattr(settings, "wab_clearance_tolerance_mm", None) is not None:
         if fam["no_reversal"].max_residual > 0.0:
