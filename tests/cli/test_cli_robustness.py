@@ -140,9 +140,11 @@ def test_ctrl_c_while_writing_leaves_no_file(tmp_path: Path, monkeypatch, capsys
 
 
 def test_ctrl_c_in_a_real_process_exits_130_silently(tmp_path: Path) -> None:
-    # SIGINT arrives while the program is planned (the signal, not a simulated exception)
+    # SIGINT arrives while the program is planned (the signal, not a simulated exception); the child
+    # restores Python's handler, which a shell leaves out for background jobs (SIGINT ignored)
     script = (
         "import os, signal, sys\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "import trcopt.pipeline as p\n"
         "p.plan_file = lambda *a, **k: (os.kill(os.getpid(), signal.SIGINT), signal.pause())\n"
         "from trcopt.cli import main\n"
