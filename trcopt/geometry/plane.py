@@ -7,6 +7,7 @@ counter-clockwise sweep in (u, v) seen from +w is G3 in every plane.
 from __future__ import annotations
 
 import enum
+import functools
 
 from trcopt.geometry.vec import Vec3
 
@@ -18,7 +19,7 @@ class Plane(enum.Enum):
     G18 = "G18"
     G19 = "G19"
 
-    @property
+    @functools.cached_property
     def axes(self) -> tuple[int, int, int]:
         """Indices into (x, y, z) of the abscissa, ordinate and applicate."""
         return _AXES[self]

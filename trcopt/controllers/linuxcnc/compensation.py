@@ -117,9 +117,8 @@ class _LinuxCncCompensator:
         m = q.move
         side = Side.OFF if not q.compensated else (Side.LEFT if self.side > 0 else Side.RIGHT)
         radius = self.r if side is not Side.OFF else 0.0
-        if q.is_arc:
-            assert q.center is not None
-            c = q.center
+        c = q.center
+        if c is not None:
             rad = math.hypot(q.end[0] - c[0], q.end[1] - c[1])
             sweep = find_turn(q.start[:2], c, q.turn, q.end[:2])
             if rad <= 0.0:
@@ -129,9 +128,9 @@ class _LinuxCncCompensator:
             else:
                 geom = Arc(c, rad, angle_to(c, q.start[:2]), sweep, q.start[2], q.end[2])
             return Segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
-        line = Line(q.start, q.end)
-        if line.length <= 1e-12:
+        if math.dist(q.start, q.end) <= 1e-12:  # Line.length
             return None
+        line = Line(q.start, q.end)
         role = q.role
         if m.feed_mm_s is None and role is Role.CONTOUR:
             role = Role.RAPID
@@ -218,7 +217,10 @@ class _LinuxCncCompensator:
         if m.kind is MoveKind.NONE:
             return
         plane = m.plane
-        start, end = plane.to_uvw(m.start), plane.to_uvw(m.end)
+        if plane is Plane.G17:  # (u, v, w) = (x, y, z)
+            start, end = m.start, m.end
+        else:
+            start, end = plane.to_uvw(m.start), plane.to_uvw(m.end)
         if self.cur is None or not self.on:
             self._set_plane(plane)
         if self.cur is None:
@@ -327,8 +329,8 @@ class _LinuxCncCompensator:
             self.queue.append(_Queued(self.cur, (c[0], c[1], end[2]), m, Role.CONTOUR))
             self.cur, self.prog = (c[0], c[1], end[2]), end
             return
-        theta = angle_to(op, c)
-        alpha = angle_to(op, p)
+        theta = math.atan2(c[1] - op[1], c[0] - op[0])  # angle_to(op, c)
+        alpha = math.atan2(p[1] - op[1], p[0] - op[0])  # angle_to(op, p)
         if side > 0:
             if theta < alpha:
                 theta += TWO_PI
@@ -339,11 +341,12 @@ class _LinuxCncCompensator:
                 alpha += TWO_PI
             beta = alpha - theta - HALF_PI
             gamma = -HALF_PI
-        e = point_at(p, r, alpha + gamma)
-        mid = point_at(op, r, alpha + gamma)
-        front = self._front()
+        cos, sin = r * math.cos(alpha + gamma), r * math.sin(alpha + gamma)
+        e = (p[0] + cos, p[1] + sin)  # point_at(p, r, alpha + gamma)
+        mid = (op[0] + cos, op[1] + sin)  # point_at(op, r, alpha + gamma)
+        front = self.queue[0] if self.queue else None
         concave = beta < -small or beta > math.pi + small
-        if not concave and beta > math.pi - small and front is not None and front.is_arc:
+        if not concave and beta > math.pi - small and front is not None and front.center is not None:
             # "h" shape: over a round top into a line on the side the tool is on
             concave = (side < 0 and front.turn > 0) or (side > 0 and front.turn < 0)
         if not concave and beta > small:  # outside corner
@@ -358,7 +361,7 @@ class _LinuxCncCompensator:
             start = (mid[0], mid[1], cz)
             self.endpoint = mid
         elif concave:
-            if front is None or not front.is_arc:
+            if front is None or front.center is None:
                 mid = line_line_corner(c, theta, beta, gamma, r)
             else:
                 assert front.center is not None

@@ -11,12 +11,14 @@ at ``OLine.rest``), and only when LinuxCNC reads them (not while it skips).
 
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass
 
 from trcopt.codes import Code
 from trcopt.controllers.linuxcnc.ngc_expr import NgcError, NgcLine, Parameters, ValueReader, read_integer
 
-__all__ = ["Block", "OLine", "O_COMMANDS", "block_number", "read_oword", "read_words"]
+__all__ = ["Block", "OLine", "O_COMMANDS", "block_number", "read_oword", "read_words", "read_words_general"]
 
 # in LinuxCNC's order of trial ("do" before "while", "if" before "elseif", "else" before "endif")
 O_COMMANDS = (
@@ -25,6 +27,11 @@ O_COMMANDS = (
 )  # fmt: skip
 # letters LinuxCNC reads as words (others: "Unknown word starting with …" / bad character)
 _LETTERS = set("abcdfghijklmnpqrstuvwxyz")
+# a word made of one of those letters and a plain decimal number (what ValueReader.value reads
+# without an expression, parameter, function or unary sign of its own)
+_PLAIN = r"[abcdfghijklmnpqrstuvwxyz][+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)"
+_PLAIN_WORD = re.compile(_PLAIN)
+_PLAIN_LINE = re.compile(f"(?:{_PLAIN})*")
 
 
 @dataclass(slots=True)
@@ -77,7 +84,19 @@ def read_oword(line: NgcLine, start: int, params: Parameters) -> OLine:
 
 
 def read_words(line: NgcLine, start: int, params: Parameters) -> Block:
-    """Words and parameter settings of a (non-O) line from ``start``; values are evaluated."""
+    """Words and parameter settings of a (non-O) line from ``start``; values are evaluated. A
+    line made only of letters with plain numbers (``g1x1.5y-.2``) is read in one pass; every
+    other line (parameters, expressions, functions, signs before brackets, errors) word by word
+    (:func:`read_words_general`), with the same words, values and columns."""
+    if _PLAIN_LINE.fullmatch(line.text, start) is not None:
+        fast = _plain_words(line, start)
+        if fast is not None:
+            return Block(fast, [], line.comment)
+    return read_words_general(line, start, params)
+
+
+def read_words_general(line: NgcLine, start: int, params: Parameters) -> Block:
+    """:func:`read_words` one word at a time (every line; the fast path's reference)."""
     text = line.text
     reader = ValueReader(text, params, start)
     cols, n_cols = line.cols, len(line.cols)
@@ -110,3 +129,18 @@ def read_words(line: NgcLine, start: int, params: Parameters) -> Block:
         else:
             raise NgcError(f"Bad character '{c}' used", at, Code.NC_SYNTAX)
     return Block(words, settings, line.comment)
+
+
+def _plain_words(line: NgcLine, start: int) -> list[tuple[str, float, int]] | None:
+    """The words of a line from ``start`` that is only letters with plain numbers, as
+    :func:`read_words` reads them; None when a value is infinite (read_words then raises)."""
+    cols = line.cols
+    words: list[tuple[str, float, int]] = []
+    at = start  # the words follow one another without a gap (the whole line matched _PLAIN_LINE)
+    for word in _PLAIN_WORD.findall(line.text, start):
+        v = float(word[1:])
+        if math.isinf(v):
+            return None
+        words.append((word[0].upper(), v, cols[at]))
+        at += len(word)
+    return words

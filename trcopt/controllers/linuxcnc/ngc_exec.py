@@ -32,6 +32,7 @@ __all__ = ["execute_block"]
 
 _PLANES = {17.0: Plane.G17, 18.0: Plane.G18, 19.0: Plane.G19}
 _COMP_ON = "with cutter radius compensation on"
+_CYCLES = frozenset(CYCLES)
 Emit = Callable[[Move], None]
 
 
@@ -67,77 +68,80 @@ def execute_block(w: Words, span: SourceSpan, st: NgcState, emit: Emit, arc_tol:
         st.selected_tool = t
         actions.append(f"T{t}")
     # M codes: tool change, spindle, coolant
-    m6 = w.m.get(6)
-    if m6 == 6:
-        if st.selected_tool is None:
-            raise Stop(Code.LCNC_WORDS, "Need tool prepared -Txx- for toolchange", w.mcol(6))
-        _comp_check(st, "Cannot change tools with cutter radius compensation on", w.mcol(6))
-        st.spindle = 0
-        st.spindle_tool = st.selected_tool
-        st.offsets.params.numbered[5400] = float(st.spindle_tool)
-        actions.append("M6")
-    elif m6 == 61:
-        q = w.values.get("Q", -1.0)
-        t = int(round(q))
-        if t < 0:
-            raise Stop(Code.LCNC_WORDS, "Need non-negative Q-word to specify tool number with M61", w.mcol(6))
-        if t != 0 and st.tools and t not in st.tools:
-            raise Stop(Code.LCNC_TOOL_NOT_FOUND, f"Requested tool {t} not found in the tool table", w.mcol(6))
-        st.spindle_tool = t
-        st.offsets.params.numbered[5400] = float(t)
-        actions.append(f"M61 Q{t}")
-    m7 = w.m.get(7)
-    if m7 is not None:
-        st.spindle = {3: 1, 4: -1, 5: 0}[m7]
-        actions.append(f"M{m7}")
-    m8 = w.m.get(8)
-    if m8 is not None:
-        st.mist, st.flood = (m8 == 7 or (st.mist and m8 != 9)), (m8 == 8 or (st.flood and m8 != 9))
-        actions.append(f"M{m8}")
-    if 9 in w.m:
-        actions.append(f"M{w.m[9]}")
+    if w.m:  # a block without M codes skips them all
+        m6 = w.m.get(6)
+        if m6 == 6:
+            if st.selected_tool is None:
+                raise Stop(Code.LCNC_WORDS, "Need tool prepared -Txx- for toolchange", w.mcol(6))
+            _comp_check(st, "Cannot change tools with cutter radius compensation on", w.mcol(6))
+            st.spindle = 0
+            st.spindle_tool = st.selected_tool
+            st.offsets.params.numbered[5400] = float(st.spindle_tool)
+            actions.append("M6")
+        elif m6 == 61:
+            q = w.values.get("Q", -1.0)
+            t = int(round(q))
+            if t < 0:
+                raise Stop(Code.LCNC_WORDS, "Need non-negative Q-word to specify tool number with M61", w.mcol(6))
+            if t != 0 and st.tools and t not in st.tools:
+                raise Stop(Code.LCNC_TOOL_NOT_FOUND, f"Requested tool {t} not found in the tool table", w.mcol(6))
+            st.spindle_tool = t
+            st.offsets.params.numbered[5400] = float(t)
+            actions.append(f"M61 Q{t}")
+        m7 = w.m.get(7)
+        if m7 is not None:
+            st.spindle = {3: 1, 4: -1, 5: 0}[m7]
+            actions.append(f"M{m7}")
+        m8 = w.m.get(8)
+        if m8 is not None:
+            st.mist, st.flood = (m8 == 7 or (st.mist and m8 != 9)), (m8 == 8 or (st.flood and m8 != 9))
+            actions.append(f"M{m8}")
+        if 9 in w.m:
+            actions.append(f"M{w.m[9]}")
     # G codes in LinuxCNC's order
-    if w.g.get(0) == 4.0:
-        actions.append(f"G4 P{w.values['P']:g}")
-    plane_word = w.g.get(2)
-    if plane_word is not None:
-        if _PLANES[plane_word] is not st.plane:
-            _comp_check(st, "Cannot change planes with cutter radius compensation on", w.gcol(2))
-        st.plane = _PLANES[plane_word]
-    g = w.g.get(6)
-    if g is not None:
-        unit = INCH if g == 20.0 else 1.0  # allowed under compensation: LinuxCNC converts its state
-        st.unit = unit
-        if st.machine_mm is None:
-            st.machine_mm = unit
-    g = w.g.get(7)
-    if g is not None:
-        if g != 40.0:
-            if st.plane is Plane.G19:
-                raise Stop(Code.LCNC_YZ_PLANE, "Cutter radius compensation allowed only in XY, XZ planes", w.gcol(7))
-            if st.side is not Side.OFF:
-                raise Stop(Code.LCNC_COMP_ALREADY_ON, "Cannot turn cutter radius comp on when on", w.gcol(7))
-        compensation_on(g, w.values, st, st.tools)
-    g = w.g.get(8)
-    if g is not None:
-        _tool_length(g, w, st)
-    system_word = w.g.get(12)
-    if system_word is not None:
-        _comp_check(st, "Cannot change coordinate systems with cutter radius compensation on", w.gcol(12))
-        system = SYSTEM_WORDS[system_word]
-        st.pos = _offset_call(lambda: st.offsets.select(system, st.pos))
-    g = w.g.get(13)
-    if g is not None:
-        path_control(g, w.values, st, w.gcol(13))
-    g = w.g.get(3)
-    if g is not None:
-        st.absolute = g == 90.0
-    g = w.g.get(4)
-    if g is not None:
-        st.ijk_absolute = g == 90.1
-    g = w.g.get(10)
-    if g is not None:
-        st.cycle.retract_old = g == 98.0
+    if len(w.g) > (1 in w.g):  # G codes other than the motion's (group 1)
+        if w.g.get(0) == 4.0:
+            actions.append(f"G4 P{w.values['P']:g}")
+        plane_word = w.g.get(2)
+        if plane_word is not None:
+            if _PLANES[plane_word] is not st.plane:
+                _comp_check(st, "Cannot change planes with cutter radius compensation on", w.gcol(2))
+            st.plane = _PLANES[plane_word]
+        g = w.g.get(6)
+        if g is not None:
+            unit = INCH if g == 20.0 else 1.0  # allowed under compensation: LinuxCNC converts its state
+            st.unit = unit
+            if st.machine_mm is None:
+                st.machine_mm = unit
+        g = w.g.get(7)
+        if g is not None:
+            if g != 40.0:
+                if st.plane is Plane.G19:
+                    message = "Cutter radius compensation allowed only in XY, XZ planes"
+                    raise Stop(Code.LCNC_YZ_PLANE, message, w.gcol(7))
+                if st.side is not Side.OFF:
+                    raise Stop(Code.LCNC_COMP_ALREADY_ON, "Cannot turn cutter radius comp on when on", w.gcol(7))
+            compensation_on(g, w.values, st, st.tools)
+        g = w.g.get(8)
+        if g is not None:
+            _tool_length(g, w, st)
+        system_word = w.g.get(12)
+        if system_word is not None:
+            _comp_check(st, "Cannot change coordinate systems with cutter radius compensation on", w.gcol(12))
+            system = SYSTEM_WORDS[system_word]
+            st.pos = _offset_call(lambda: st.offsets.select(system, st.pos))
+        g = w.g.get(13)
+        if g is not None:
+            path_control(g, w.values, st, w.gcol(13))
+        g = w.g.get(3)
+        if g is not None:
+            st.absolute = g == 90.0
+        g = w.g.get(4)
+        if g is not None:
+            st.ijk_absolute = g == 90.1
+        g = w.g.get(10)
+        if g is not None:
+            st.cycle.retract_old = g == 98.0
     stop = w.m.get(4)
     if stop is not None:
         actions.append(f"M{stop}")
@@ -291,14 +295,33 @@ def _end(w: Words, st: NgcState, axes: dict[int, float]) -> Vec3:
 
 
 def _comp(st: NgcState, side_programmed: bool) -> CompState:
-    return CompState(
-        side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed, inch=st.unit != 1.0
-    )
+    # the state of the block before is reused while it is the same (the same radius object:
+    # a radius of -0.0 or NaN is never taken for another value)
+    inch = st.unit != 1.0
+    last = _LAST_COMP[0]
+    if (
+        last is not None and last.radius is st.radius_mm and last.side is st.side
+        and last.side_programmed is side_programmed and last.inch is inch
+    ):  # fmt: skip
+        return last
+    comp = CompState(side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed, inch=inch)
+    _LAST_COMP[0] = comp
+    return comp
+
+
+_LAST_COMP: list[CompState | None] = [None]
+_LAST_SHIFT: list[tuple[Vec3, Vec3, Vec3 | None, Vec3] | None] = [None]
 
 
 def _shifted(move: Move, st: NgcState) -> Move:
     """The move in the output frame (the G54 system at the start)."""
-    d = st.offsets.fixed((0.0, 0.0, 0.0))
+    off = st.offsets
+    last = _LAST_SHIFT[0]  # (origin, axis, base, shift): the shift while the offsets are the same
+    if last is not None and off.loaded and last[0] is off.origin and last[1] is off.axis and last[2] is off.base:
+        d = last[3]
+    else:
+        d = off.fixed((0.0, 0.0, 0.0))
+        _LAST_SHIFT[0] = (off.origin, off.axis, off.base, d)
     if d == (0.0, 0.0, 0.0):
         return move
 
@@ -327,7 +350,7 @@ def _motion(w: Words, st: NgcState, span: SourceSpan, emit: Emit, actions: list[
     motion = w.motion
     assert motion is not None
     side_programmed = 7 in w.g
-    if motion not in CYCLES:
+    if motion not in _CYCLES:
         st.cycle.initial = None
         st.cycle.motion = None
     if motion == 80.0:
@@ -335,7 +358,7 @@ def _motion(w: Words, st: NgcState, span: SourceSpan, emit: Emit, actions: list[
         return
     st.motion = motion
     axes = _axes(w, st)
-    if motion in CYCLES:
+    if motion in _CYCLES:
         if st.feed == 0.0:
             raise Stop(Code.LCNC_WORDS, "Cannot feed with zero feed rate", w.gcol(1))
         _comp_check(st, "Cannot use canned cycles with cutter compensation on", w.gcol(1))

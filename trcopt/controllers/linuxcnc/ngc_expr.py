@@ -95,15 +95,30 @@ class NgcLine:
 
 _BLANKS = " \t\r\n\f\v"
 _DROP_BLANKS = str.maketrans("", "", _BLANKS)
+# an ASCII line's shape: its blanks kept, every other character an "x" (the columns of its
+# characters without blanks depend on nothing else); the columns of recent shapes, and whether
+# the shape's blanks are all spaces
+_SHAPE = bytes(c if chr(c) in _BLANKS else ord("x") for c in range(256))
+_COLUMNS: dict[bytes, tuple[tuple[int, ...], bool]] = {}
+_COLUMNS_KEPT = 4096
 
 
 def normalise(raw: str) -> NgcLine:
     """LinuxCNC's ``close_and_downcase`` (comments dropped rather than kept)."""
     if raw.isascii() and "(" not in raw and ";" not in raw:
-        # the common line without comments: the same text and columns, without a loop per character
-        cols = [i for i, c in enumerate(raw, 1) if c not in _BLANKS]
-        cols.append((cols[-1] + 1) if cols else 1)
-        return NgcLine(raw.translate(_DROP_BLANKS).lower(), tuple(cols), None)
+        # the common line without comments: the same text, and the columns of a line read before
+        # with the same blanks at the same places (the same shape), without a loop per character
+        shape = raw.encode("ascii").translate(_SHAPE)
+        known = _COLUMNS.get(shape)
+        if known is None:
+            found = [i for i, c in enumerate(raw, 1) if c not in _BLANKS]
+            found.append((found[-1] + 1) if found else 1)
+            known = (tuple(found), not any(b in shape for b in b"\t\r\n\f\v"))
+            if len(_COLUMNS) >= _COLUMNS_KEPT:
+                _COLUMNS.clear()
+            _COLUMNS[shape] = known
+        text = raw.replace(" ", "") if known[1] else raw.translate(_DROP_BLANKS)
+        return NgcLine(text.lower(), known[0], None)
     out: list[str] = []
     cols: list[int] = []
     comment: str | None = None

@@ -54,9 +54,12 @@ def m98_block(self: Any, block: Block) -> bool:
     """``M98 P… [L…]`` and ``M99`` in ``block``: call, repeat or return; True when the block
     was a call or a return (it has no other words). An ``M99`` in the main program ends it as
     ``M2`` does (LinuxCNC without its loop-on-M99 setting): the caller reads it as M2."""
-    ms = [(i, v) for i, (k, v, _) in enumerate(block.words) if k == "M" and v in (98.0, 99.0)]
-    if not ms:
+    for k, v, _ in block.words:
+        if k == "M" and v in (98.0, 99.0):
+            break
+    else:
         return False
+    ms = [(i, v) for i, (k, v, _) in enumerate(block.words) if k == "M" and v in (98.0, 99.0)]
     i, code = ms[0]
     col = block.words[i][2]
     other = [k for k, _, _ in block.words if k not in ("M", "P", "L")]

@@ -121,10 +121,13 @@ class NgcFlow:
                     continue  # % delimiters; block delete (the switch taken as on)
                 cached = self._lines.get((self.file, self.index))
                 if cached is None:
-                    early = _BLOCK_NUMBER.match(stripped)  # for an error before the words are read
-                    number = None if early is None else int(early.group(1))
-                    line = normalise(raw)
-                    number, start = block_number(line)
+                    try:
+                        line = normalise(raw)
+                        number, start = block_number(line)
+                    except NgcError:
+                        early = _BLOCK_NUMBER.match(stripped)  # the number an error names
+                        number = None if early is None else int(early.group(1))
+                        raise
                     self._lines[(self.file, self.index)] = (line, number, start)
                 else:
                     line, number, start = cached

@@ -37,6 +37,8 @@ _M_UNMODELLED = {19, 50, 51, 52, 53, 62, 63, 64, 65, 66, 67, 68, 70, 71, 72, 73}
 _COVETS_AXES = {10.0, 28.0, 30.0, 52.0, 92.0}
 _ALLOWED_LETTERS = set("GMXYZIJKRFSTDNPHQL")
 _ARC = (2.0, 3.0)
+_G_KEY = {group: f"G{group}" for group in set(_G_GROUP.values())}  # Words.cols keys
+_M_KEY = {group: f"M{group}" for group in set(_M_GROUP.values())}
 _CYCLE = {73.0, 74.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0, 88.0, 89.0}
 
 
@@ -78,7 +80,7 @@ def decode(words: list[tuple[str, float, int]], st: NgcState) -> Words:
             if group in w.g:
                 raise Stop(Code.LCNC_WORDS, "Two g codes used from same modal group", col)
             w.g[group] = code
-            w.cols[f"G{group}"] = col
+            w.cols[_G_KEY[group]] = col
         elif letter == "M":
             mc = int(round(value))
             if mc in _M_UNMODELLED or 100 <= mc <= 199:
@@ -89,7 +91,7 @@ def decode(words: list[tuple[str, float, int]], st: NgcState) -> Words:
             if mgroup in w.m:
                 raise Stop(Code.LCNC_WORDS, "Two m codes used from same modal group", col)
             w.m[mgroup] = mc
-            w.cols[f"M{mgroup}"] = col
+            w.cols[_M_KEY[mgroup]] = col
         elif letter == "N":
             raise Stop(Code.NC_SYNTAX, "N word must start the block", col)
         elif letter in w.values:
@@ -104,7 +106,8 @@ def decode(words: list[tuple[str, float, int]], st: NgcState) -> Words:
 
 def _enhance(w: Words, st: NgcState) -> None:
     """LinuxCNC's ``enhance_block``: which motion runs, and which words the axes belong to."""
-    axis = any(a in w.values for a in "XYZ")
+    values = w.values
+    axis = "X" in values or "Y" in values or "Z" in values
     mode0, mode1 = w.g.get(0), w.g.get(1)
     covets = mode0 in _COVETS_AXES
     if mode1 is not None:
@@ -128,7 +131,7 @@ def _enhance(w: Words, st: NgcState) -> None:
             raise Stop(Code.LCNC_WORDS, "Cannot use axis values without a g code that uses them")
         if tlo != 43.1:
             w.motion = st.motion
-    elif any(k in w.values for k in "IJK") and st.motion in _ARC:
+    elif ("I" in values or "J" in values or "K" in values) and st.motion in _ARC:
         w.motion = st.motion
     if mode0 == 53.0 and w.motion not in (0.0, 1.0):
         raise Stop(Code.LCNC_OFFSET, "Must use g0 or g1 with g53", w.gcol(0))

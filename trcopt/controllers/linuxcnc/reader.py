@@ -22,6 +22,7 @@ G73/G83 peck clearances may be set in ``rs274ngc.toml`` beside the tool table or
 
 from __future__ import annotations
 
+import gc
 import os
 import re
 
@@ -102,6 +103,17 @@ class Rs274Reader:
 
     # -- reading ----------------------------------------------------------------------------
     def read(self, text: str) -> NcProgram:
+        # the reader allocates a few objects per block and frees none of them until the end: the
+        # cyclic garbage collector, which would walk them all again and again, waits meanwhile
+        paused = gc.isenabled()
+        gc.disable()
+        try:
+            return self._read(text)
+        finally:
+            if paused:
+                gc.enable()
+
+    def _read(self, text: str) -> NcProgram:
         params = Parameters()
         for number, value in self.settings.parameters.items():
             params.numbered[number] = value
@@ -158,25 +170,28 @@ class Rs274Reader:
 
     def _block(self, step: Step, span: SourceSpan, st: NgcState, moves: list[Move], params: Parameters) -> bool:
         words = decode(step.block.words, st)
-        settings = dict(step.block.settings)
-
-        def numbered(k: int) -> float | None:
-            v = settings.get(k)
-            return params.numbered[k] if v is None else v
-
-        def named(name: str) -> float | None:
-            v = settings.get(name)
-            return params.get_named(name) if v is None else v
-
-        message = active_comment(step.block.comment, numbered, named)
         action = None
-        if message is not None:
-            kind, text = message
-            action = f'MSG("{text}")'
-            self.diags.append(Diagnostic(Severity.INFO, Code.LCNC_MESSAGE, f"{kind}: {text}", span))
+        if step.block.comment is not None:  # a line without a comment has no message
+            settings = dict(step.block.settings)
+
+            def numbered(k: int) -> float | None:
+                v = settings.get(k)
+                return params.numbered[k] if v is None else v
+
+            def named(name: str) -> float | None:
+                v = settings.get(name)
+                return params.get_named(name) if v is None else v
+
+            message = active_comment(step.block.comment, numbered, named)
+            if message is not None:
+                kind, text = message
+                action = f'MSG("{text}")'
+                self.diags.append(Diagnostic(Severity.INFO, Code.LCNC_MESSAGE, f"{kind}: {text}", span))
         ended = execute_block(words, span, st, moves.append, self.arc_tolerance_mm, action)
-        here = (st.pos[0] / st.unit, st.pos[1] / st.unit, st.pos[2] / st.unit)
-        params.numbered[5420:5423] = list(here)
+        pos, unit, numbered_params = st.pos, st.unit, params.numbered
+        numbered_params[5420] = pos[0] / unit
+        numbered_params[5421] = pos[1] / unit
+        numbered_params[5422] = pos[2] / unit
         params.comp_on = st.side is not Side.OFF
         return ended
 
