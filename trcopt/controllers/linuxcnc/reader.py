@@ -22,7 +22,6 @@ G73/G83 peck clearances may be set in ``rs274ngc.toml`` beside the tool table or
 
 from __future__ import annotations
 
-import gc
 import os
 import re
 
@@ -38,6 +37,7 @@ from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, l
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.modes import Side, ToolUnit, parse_enum
+from trcopt.nc.collector import collector_paused
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import Move, NcProgram
 
@@ -103,15 +103,8 @@ class Rs274Reader:
 
     # -- reading ----------------------------------------------------------------------------
     def read(self, text: str) -> NcProgram:
-        # the reader allocates a few objects per block and frees none of them until the end: the
-        # cyclic garbage collector, which would walk them all again and again, waits meanwhile
-        paused = gc.isenabled()
-        gc.disable()
-        try:
+        with collector_paused():  # the moves are acyclic (trcopt.nc.collector)
             return self._read(text)
-        finally:
-            if paused:
-                gc.enable()
 
     def _read(self, text: str) -> NcProgram:
         params = Parameters()
