@@ -17,6 +17,7 @@ from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
 from trcopt.modes import ApprRadius, CornerObjective, ToleranceKind, ToolUnit, parse_enum
+from trcopt.nc.collector import collector_paused
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
@@ -281,13 +282,16 @@ def plan(
     tol = settings.tolerances.coincidence_mm
     front_end_ok = not any(d.severity is Severity.ERROR for d in diagnostics)
     trc_diags: list[Diagnostic] = []
-    moves = list(nc.moves if reader.leads is None else reader.leads(nc.moves, settings, trc_diags))
-    programmed = [s for s in (programmed_segment(m, tol) for m in moves) if s is not None]
-    front_end_ok = front_end_ok and not any(d.severity is Severity.ERROR for d in trc_diags)
-    # the compensation semantics: the reader's controller unless another profile is asked for
-    profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
-    with stage("compensating"):
-        toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
+    # the segments of the programmed and the tool-centre path are acyclic: the cyclic collector
+    # would only walk them again and again (trcopt.nc.collector)
+    with collector_paused():
+        moves = list(nc.moves if reader.leads is None else reader.leads(nc.moves, settings, trc_diags))
+        programmed = [s for s in (programmed_segment(m, tol) for m in moves) if s is not None]
+        front_end_ok = front_end_ok and not any(d.severity is Severity.ERROR for d in trc_diags)
+        # the compensation semantics: the reader's controller unless another profile is asked for
+        profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
+        with stage("compensating"):
+            toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, reader.dialect, nc, programmed, toolpath, diagnostics)
@@ -297,7 +301,7 @@ def plan(
     if opts.verify:
         from trcopt.verify.plan import verify_plan
 
-        with stage("verifying"):
+        with stage("verifying"), collector_paused():
             result.verification = verify_plan(
                 programmed, toolpath, moves, settings, near_tangent_rad=profile.near_tangent_rad
             )
