@@ -42,7 +42,7 @@ POLY_CAP_MM = 0.2
 DKAPPA_REL = 0.02  # largest relative change of a curve's curvature across one grid interval
 KNOT_EPS_MM = 1e-6
 
-__all__ = ["segment_grid", "curve_grids", "DKAPPA_REL", "KNOT_EPS_MM"]
+__all__ = ["segment_grid", "arc_grid", "curve_grids", "DKAPPA_REL", "KNOT_EPS_MM"]
 
 
 def _graded(length: float, h0: float, zone: float, hmax: float) -> np.ndarray:
@@ -95,19 +95,26 @@ def segment_grid(ev: SegmentEval, feed: float, amin: float, engine: TimingEngine
     if ev.kind == "arc":
         assert ev._arc is not None
         _, _, r, _, sweep, _, _ = ev._arc
-        rate = abs(sweep) / length  # rad per mm of 3D arc length
-        rho = 1.0 / (r * rate * rate)  # radius of curvature (helix: ℓ²/R)
-        dtheta = DTHETA_ACC if feed * feed > 0.5 * amin * rho else DTHETA_FEED
-        n_min = max(2, math.ceil(abs(sweep) / dtheta))
-        hcap = length / n_min
-        grid = _graded(length, min(h0, hcap), ramp, hcap)
-        return grid, rate
+        return arc_grid(length, sweep, r, feed, amin)
     grid = _curve_start_grid(ev, h0, ramp)
     floor = np.array([DKAPPA_REL * amin / max(feed, 1e-9) ** 2])
     _, grid, turn, excess = _refined(
         lambda _k, x, order: ev.eval(x, order), np.zeros(len(grid), np.int64), grid, floor
     )
     return grid, _rates(grid, turn, excess)
+
+
+def arc_grid(length: float, sweep: float, r: float, feed: float, amin: float) -> tuple[np.ndarray, float]:
+    """:func:`segment_grid` of an arc/helix of 3D ``length`` (mm), ``sweep`` (rad) and radius ``r`` (mm)."""
+    ramp = feed * feed / (2.0 * amin)
+    h0 = min(ramp / RAMP_POINTS, length / 4.0)
+    rate = abs(sweep) / length  # rad per mm of 3D arc length
+    rho = 1.0 / (r * rate * rate)  # radius of curvature (helix: ℓ²/R)
+    dtheta = DTHETA_ACC if feed * feed > 0.5 * amin * rho else DTHETA_FEED
+    n_min = max(2, math.ceil(abs(sweep) / dtheta))
+    hcap = length / n_min
+    grid = _graded(length, min(h0, hcap), ramp, hcap)
+    return grid, rate
 
 
 def curve_grids(

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from trcopt.modes import TimingEngine
-from trcopt.timing.grid import curve_grids, segment_grid
+from trcopt.timing.grid import arc_grid, curve_grids
 from trcopt.timing.path import PathArrays
+from trcopt.timing.profiles import Profiles, Result, ranges
 from trcopt.timing.reach import (
     ellipse_terms,
     interval_rows,
@@ -45,8 +45,6 @@ __all__ = ["solve_own", "WINDOW_INTERVALS", "GROUP_INTERVALS"]
 
 WINDOW_INTERVALS = 4096  # intervals of a long section solved at once (half of them committed)
 GROUP_INTERVALS = 32768  # padded intervals of one lock-step group of short sections
-
-Result = tuple[np.ndarray, np.ndarray, np.ndarray]  # s (mm), x = ṡ² (mm²/s²), segment per point
 
 
 @dataclass
@@ -128,61 +126,50 @@ def solve_own(
     *,
     window: int | None = WINDOW_INTERVALS,
     group_budget: int = GROUP_INTERVALS,
-) -> tuple[dict[int, Result], list[int]]:
+) -> tuple[Profiles, list[int]]:
     """Own reachability solver on line/arc sections; ``feeds`` are the path-speed limits (mm/s).
 
     With ``path_amax`` (limit on |a|, mm/s²) the passes of
     :func:`~trcopt.timing.reach.solve_lockstep_vector` replace the linear ones. ``window=None``
-    solves every section whole (the reference the windows reproduce). Returns the profile of
-    every solved section by index and the sections whose forward pass violates a lower row (they
-    go to toppra).
+    solves every section whole (the reference the windows reproduce). Returns the profiles of
+    the solved sections (section index → ``(s, x, iseg)``, kept in the flat arrays they were
+    computed in) and the sections whose forward pass violates a lower row (they go to toppra).
     """
     pb = _grid(secs, arrays, feeds, vmax, amax, path_amax)
     n_int = np.diff(pb.offsets)
     limit = int(n_int.max()) + 1 if window is None else max(int(window), 8)
-    solved: dict[int, Result] = {}
+    solved = Profiles()
     failed: list[int] = []
-    short = [q for q in range(len(secs)) if n_int[q] <= limit]
+    index = np.array([sec.index for sec in secs], dtype=np.int64)
+    short = np.nonzero(n_int <= limit)[0]
     for group in _groups(short, n_int, max(group_budget, limit)):
-        idx = np.concatenate([np.arange(pb.offsets[q], pb.offsets[q + 1]) for q in group])
-        rows = pb.rows(idx)
-        ms = n_int[group].astype(np.int64)
-        ats = np.concatenate(([0], np.cumsum(ms)[:-1]))
-        xs, bad, _ = _lockstep(rows, _short_pieces(rows, ats, ms))
-        bad_any = [bool(b.any()) for b in bad] if len(group) < 64 else _any_rows(bad)
-        ok = [r for r, b in enumerate(bad_any) if not b]
-        failed.extend(secs[group[r]].index for r, b in enumerate(bad_any) if b)
-        for r, res in zip(ok, _expand_many(pb, rows, [(int(ats[r]), int(ms[r]), xs[r]) for r in ok]), strict=True):
-            solved[secs[group[r]].index] = res
-    for q in range(len(secs)):
-        if n_int[q] > limit:
-            out = _solve_windows(pb, q, limit)
-            if out is None:
-                failed.append(secs[q].index)
-            else:
-                solved[secs[q].index] = out
+        ms = n_int[group]
+        ats = np.cumsum(ms) - ms  # first row of every section
+        rows = pb.rows(ranges(pb.offsets[group], ms))
+        # node caps: rest at both ends of a section, its inner nodes capped from both sides
+        X = np.zeros((group.shape[0], int(ms.max()) + 1))
+        inner = np.minimum(rows.cap_l[1:], rows.cap_r[:-1])  # node between row j and j + 1
+        rr, cc = _cells(ms)
+        mid = cc < ms[rr] - 1
+        X[rr[mid], cc[mid] + 1] = inner[(ats[rr] + cc)[mid]]
+        F, bad, _ = _lockstep(rows, ats, ms, X)
+        ok = ~bad.any(axis=1)
+        failed.extend(index[group[~ok]].tolist())
+        _expand_many(pb, rows, ats[ok], ms[ok], F[ok], index[group[ok]], solved)
+    for q in np.nonzero(n_int > limit)[0].tolist():
+        out = _solve_windows(pb, q, limit)
+        if out is None:
+            failed.append(secs[q].index)
+        else:
+            solved.add(secs[q].index, *out)
     return solved, failed
 
 
-def _short_pieces(rows: _Rows, ats: np.ndarray, ms: np.ndarray) -> list[tuple[int, int, np.ndarray]]:
-    """The pieces of a group of short sections (consecutive in ``rows``): start, interval count
-    and node caps, at rest at both ends (the inner nodes capped from both sides, as
-    :meth:`_Rows.caps`)."""
-    inner = np.minimum(rows.cap_l[1:], rows.cap_r[:-1])  # node between interval j and j + 1
-    zero = np.zeros(1)
-    return [
-        (a, m, np.concatenate((zero, inner[a : a + m - 1], zero)))
-        for a, m in zip(ats.tolist(), ms.tolist(), strict=True)
-    ]
-
-
-def _any_rows(bad: list[np.ndarray]) -> list[bool]:
-    """``[b.any() for b in bad]`` in one call."""
-    lengths = np.array([b.shape[0] for b in bad])
-    flat = np.concatenate(bad) if bad else np.zeros(0, bool)
-    cum = np.concatenate(([0], np.cumsum(flat, dtype=np.int64)))
-    ends = np.cumsum(lengths)
-    return (cum[ends] - cum[ends - lengths] > 0).tolist()
+def _cells(ms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row (piece) and column of every interval of pieces of ``ms`` intervals padded to one width."""
+    total = int(ms.sum())
+    rr = np.repeat(np.arange(ms.shape[0]), ms)
+    return rr, np.arange(total) - np.repeat(np.cumsum(ms) - ms, ms)
 
 
 def _grid(
@@ -190,65 +177,69 @@ def _grid(
     path_amax: float | None,
 ) -> _Problem:
     amin = float(amax.min()) if path_amax is None else min(float(amax.min()), path_amax)
-    s_lo, s_hi, seg_of, rate_of = [], [], [], []
-    n_int = np.zeros(len(secs), dtype=np.int64)
+    firsts = np.array([sec.first for sec in secs], dtype=np.int64)
+    counts = np.array([sec.last - sec.first + 1 for sec in secs], dtype=np.int64)
+    ks = ranges(firsts, counts)  # the segments of every section, in order
+    kind = arrays.kind[ks]
     # the curves' grids refined together (one evaluation of all their points per round)
-    curves = curve_grids(arrays, [k for sec in secs for k in sec.segment_indices if arrays.kind[k] == 2], feeds, amin)
-    for q, sec in enumerate(secs):
-        for k in sec.segment_indices:
-            if k in curves:
-                local, turn_rate = curves[k]
-            else:
-                local, turn_rate = segment_grid(arrays.evals[k], float(feeds[k]), amin, TimingEngine.OWN)
-            m = local.shape[0] - 1
-            s_lo.append(local[:-1])
-            s_hi.append(local[1:])
-            seg_of.append(np.full(m, k))
-            rate_of.append(np.broadcast_to(turn_rate, (m,)))  # per interval on a curve
-            n_int[q] += m
+    curves = curve_grids(arrays, ks[kind == 2].tolist(), feeds, amin)
+    # a line is one interval (0, length); arcs and curves have their own grids
+    grids: dict[int, tuple[np.ndarray, np.ndarray | float]] = {}
+    m = np.ones(ks.shape[0], dtype=np.int64)  # intervals per segment
+    for j in np.nonzero(kind != 0)[0].tolist():
+        k = int(ks[j])
+        if k in curves:
+            grids[j] = curves[k]
+        else:
+            grids[j] = arc_grid(float(arrays.length[k]), float(arrays.sweep[k]), float(arrays.arc[k, 2]),
+                                float(feeds[k]), amin)
+        m[j] = grids[j][0].shape[0] - 1
+    at = np.cumsum(m) - m  # first interval of every segment
+    total = int(m.sum())
+    lo = np.zeros(total)
+    hi = np.empty(total)
+    rate = np.zeros(total)  # per interval on a curve
+    lines = kind == 0
+    hi[at[lines]] = arrays.length[ks[lines]]
+    for j, (local, turn_rate) in grids.items():
+        a, b = int(at[j]), int(at[j] + m[j])
+        lo[a:b], hi[a:b], rate[a:b] = local[:-1], local[1:], turn_rate
+    first_of_section = np.cumsum(counts) - counts
+    n_int = np.add.reduceat(m, first_of_section) if len(secs) else np.zeros(0, dtype=np.int64)
     offsets = np.concatenate(([0], np.cumsum(n_int)))
-    return _Problem(
-        arrays, feeds, vmax, amax, path_amax,
-        np.concatenate(s_lo), np.concatenate(s_hi), np.concatenate(seg_of), np.concatenate(rate_of), offsets,
-    )
+    return _Problem(arrays, feeds, vmax, amax, path_amax, lo, hi, np.repeat(ks, m), rate, offsets)
 
 
-def _groups(short: list[int], n_int: np.ndarray, budget: int) -> list[list[int]]:
+def _groups(short: np.ndarray, n_int: np.ndarray, budget: int) -> list[np.ndarray]:
     """Sections of similar interval count (≤ twice the smallest, or +8), ≤ ``budget`` padded intervals."""
-    order = sorted(short, key=lambda q: int(n_int[q]))
-    out: list[list[int]] = []
+    order = short[np.argsort(n_int[short], kind="stable")]
+    n = n_int[order]
+    out: list[np.ndarray] = []
     start = 0
-    while start < len(order):
-        nmax = int(n_int[order[start]])
+    while start < order.shape[0]:
+        nmax = int(n[start])
         limit = max(2 * nmax, nmax + 8)
-        stop = start
-        while stop < len(order) and n_int[order[stop]] <= limit:
-            if (stop - start + 1) * int(n_int[order[stop]]) > budget:
-                break
-            stop += 1
-        stop = max(stop, start + 1)
+        # counts rise along ``order``: the group ends at the first count above ``limit`` or the
+        # first whose padded size (members × count) exceeds the budget
+        end = min(int(np.searchsorted(n, limit, side="right")), start + budget // max(nmax, 1) + 1)
+        over = np.nonzero(np.arange(1, end - start + 1) * n[start:end] > budget)[0]
+        stop = max(start + (int(over[0]) if over.shape[0] else end - start), start + 1)
         out.append(order[start:stop])
         start = stop
     return out
 
 
 def _lockstep(
-    rows: _Rows, pieces: list[tuple[int, int, np.ndarray]], start: float | None = None
-) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
-    """Pad the pieces (start in ``rows``, interval count, node caps) and solve them in lock-step;
-    returns per piece the forward profile, the lower-row violations per interval and the backward
-    pass."""
-    G, N = len(pieces), max(m for _, m, _ in pieces)
-    ms = [m for _, m, _ in pieces]
-    counts = np.array(ms, dtype=np.int64)
+    rows: _Rows, ats: np.ndarray, ms: np.ndarray, X: np.ndarray, start: float | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pad the pieces (first interval ``ats`` in ``rows``, interval counts ``ms``, node caps ``X``
+    padded with zeros, one row per piece) and solve them in lock-step; returns the forward profile
+    (G, N+1), the lower-row violations per interval (G, N; False on the padding) and the backward
+    pass (G, N+1)."""
+    G, N = ms.shape[0], X.shape[1] - 1
     # every interval of every piece: its row in the padded arrays, its column and its source row
-    rr = np.repeat(np.arange(G), counts)
-    cc = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
-    src = np.repeat(np.array([a for a, _, _ in pieces], dtype=np.int64), counts) + cc
-    X = np.zeros((G, N + 1))
-    nodes = counts + 1
-    node_col = np.arange(int(nodes.sum())) - np.repeat(np.cumsum(nodes) - nodes, nodes)
-    X[np.repeat(np.arange(G), nodes), node_col] = np.concatenate([xm for _, _, xm in pieces])
+    rr, cc = _cells(ms)
+    src = np.repeat(ats, ms) + cc
     first = None if start is None else np.full(G, start)
     if rows.linear is not None:
         qb, wb, zb, wf, zf = rows.linear
@@ -274,9 +265,9 @@ def _lockstep(
         AL[rr, cc], BE[rr, cc], GA[rr, cc] = alpha[src], beta[src], gamma[src]
         CL[rr, cc], CR[rr, cc], DD[rr, cc], CU[rr, cc] = cl[src], cr[src], dd[src], rows.curved[src]
         F, bad, B = solve_lockstep_vector(AL, BE, GA, CL, CR, DD, CU, X, backward=True, start=first)
-    return [F[r, : m + 1] for r, m in enumerate(ms)], [bad[r, :m] for r, m in enumerate(ms)], [
-        B[r, : m + 1] for r, m in enumerate(ms)
-    ]
+    real = np.zeros((G, N), dtype=bool)
+    real[rr, cc] = True
+    return F, bad & real, B
 
 
 def _solve_windows(pb: _Problem, q: int, window: int) -> Result | None:
@@ -294,20 +285,20 @@ def _solve_windows(pb: _Problem, q: int, window: int) -> Result | None:
             xm[0] = 0.0
         if e == total:
             xm[m] = 0.0
-            xs, bad, _ = _lockstep(rows, [(0, m, xm)], carried)
+            F, bad, _ = _lockstep(rows, np.zeros(1, np.int64), np.array([m]), xm[None, :], carried)
             commit = m
         else:
             low = xm.copy()
             low[m] = 0.0  # the backward pass from rest at the window end: the lower bound
-            xs, bad, backs = _lockstep(rows, [(0, m, xm), (0, m, low)], carried)
-            settled = np.cumprod(backs[0][:m] == backs[1][:m])  # equal up to here (then equal before)
+            F, bad, B = _lockstep(rows, np.zeros(2, np.int64), np.array([m, m]), np.stack((xm, low)), carried)
+            settled = np.cumprod(B[0, :m] == B[1, :m])  # equal up to here (then equal before)
             commit = int(settled.sum()) - 1
             if commit < m // 4:
                 w *= 2  # not settled over most of the window: solve a longer one again
                 continue
-        if bad[0][:commit].any():
+        if bad[0, :commit].any():
             return None
-        x = xs[0][: commit + 1]
+        x = F[0, : commit + 1]
         part = _expand(pb, rows, 0, commit, x)
         if e != total or commit != m:
             part = (part[0][:-1], part[1][:-1], part[2])  # the next window starts at this node
@@ -379,13 +370,14 @@ def _switch_points(
     return S, Xv
 
 
-def _expand_many(pb: _Problem, rows: _Rows, pieces: list[tuple[int, int, np.ndarray]]) -> list[Result]:
-    """:func:`_expand` of several pieces (start in ``rows``, interval count, profile) at once: the
-    same values, computed over all their intervals in one pass."""
-    if not pieces:
-        return []
-    ats = np.array([a for a, _, _ in pieces], dtype=np.int64)
-    ms = np.array([m for _, m, _ in pieces], dtype=np.int64)
+def _expand_many(
+    pb: _Problem, rows: _Rows, ats: np.ndarray, ms: np.ndarray, F: np.ndarray, index: np.ndarray, out: Profiles
+) -> None:
+    """:func:`_expand` of several pieces (first interval ``ats`` in ``rows``, interval counts ``ms``,
+    profiles in the rows of ``F``) at once, into ``out`` as the sections ``index``: the same values,
+    computed over all their intervals in one pass."""
+    if not ms.shape[0]:
+        return
     total = int(ms.sum())
     first = np.cumsum(ms) - ms  # first interval of each piece in the flat arrays
     sel = np.repeat(ats - first, ms) + np.arange(total)  # rows of every interval
@@ -396,8 +388,8 @@ def _expand_many(pb: _Problem, rows: _Rows, pieces: list[tuple[int, int, np.ndar
     s1 = np.empty(total)
     s1[:-1] = s0[1:]
     s1[last] = pb.arrays.start[iseg[last]] + pb.hi[idx[last]]
-    x0 = np.concatenate([x[:-1] for _, _, x in pieces])
-    x1 = np.concatenate([x[1:] for _, _, x in pieces])
+    rr, cc = _cells(ms)
+    x0, x1 = F[rr, cc], F[rr, cc + 1]
     S, Xv = _switch_points(s0, s1, x0, x1, iseg, pb.arrays, rows.d1l[sel], rows.f2[sel], pb.vmax, pb.amax, pb.path_amax)
     end = np.zeros(total, dtype=bool)
     end[last] = True
@@ -405,13 +397,7 @@ def _expand_many(pb: _Problem, rows: _Rows, pieces: list[tuple[int, int, np.ndar
     X4 = np.column_stack((Xv, np.where(end, x1, np.nan)))
     valid = ~np.isnan(S4)
     valid[:, 3] = end
-    flat_s, flat_x = S4[valid], X4[valid]
     per_interval = valid[:, :3].sum(axis=1)
-    flat_seg = np.repeat(iseg, per_interval)
     n_seg = np.concatenate(([0], np.cumsum(per_interval)))[np.append(first, total)]
-    n_pts = n_seg + np.arange(len(pieces) + 1)  # one end node per piece
-    out = []
-    for k in range(len(pieces)):
-        a, b, c, d = int(n_pts[k]), int(n_pts[k + 1]), int(n_seg[k]), int(n_seg[k + 1])
-        out.append((flat_s[a:b], flat_x[a:b], flat_seg[c:d]))
-    return out
+    n_pts = n_seg + np.arange(ms.shape[0] + 1)  # one end node per piece
+    out.add_block(index, S4[valid], X4[valid], np.repeat(iseg, per_interval), n_pts, n_seg)

@@ -18,8 +18,9 @@ at once; :func:`path_derivatives` adds the third derivative the jerk-limited fee
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Sequence
-from typing import Literal
+from typing import Literal, overload
 
 import numpy as np
 
@@ -192,35 +193,62 @@ class PathArrays:
     """
 
     def __init__(self, segments: Sequence[Segment]) -> None:
+        segments = list(segments)
         n = len(segments)
         self.n = n
-        self.evals = [SegmentEval(s) for s in segments]
-        self.length = np.array([e.length for e in self.evals])
+        lengths: list[float] = []
+        axes: list[tuple[int, int, int]] = []
+        kinds: list[int] = []
+        line_ends: list[tuple[float, ...]] = []  # start and end of every line, in path order
+        arc_rows: list[tuple[float, ...]] = []  # cu, cv, r, a0, dangle/ds, w0, dw/ds, sweep of every arc
+        curves: dict[int, SegmentEval] = {}
+        # the same values SegmentEval holds, read in one pass over the segments
+        for i, seg in enumerate(segments):
+            g = seg.geometry
+            length = float(g.length)
+            lengths.append(length)
+            axes.append(seg.plane.axes)
+            if isinstance(g, Line):
+                kinds.append(0)
+                line_ends.append((*g.start, *g.end))
+            elif isinstance(g, Arc):
+                kinds.append(1)
+                arc_rows.append((
+                    g.center[0], g.center[1], g.radius, g.a0, g.sweep / length, g.w0, (g.w1 - g.w0) / length, g.sweep
+                ))
+            else:
+                kinds.append(2)
+                curves[i] = SegmentEval(seg)
+        self.evals = _Evaluators(segments, curves)
+        self.length = np.array(lengths, dtype=float)
         self.start = np.concatenate(([0.0], np.cumsum(self.length)))[:-1]
-        self.kind = np.zeros(n, dtype=np.int8)  # 0 line, 1 arc, 2 poly
+        self.kind = np.array(kinds, dtype=np.int8)  # 0 line, 1 arc, 2 poly
+        self.perm = np.array(axes, dtype=np.int64).reshape(n, 3)
+        # the perm of every segment is the identity (every segment in G17): no scatter of the columns
+        self.identity = bool((self.perm == np.arange(3)).all())
         self.p0 = np.zeros((n, 3))
         self.d = np.zeros((n, 3))
         self.arc = np.zeros((n, 7))  # cu, cv, r, a0, dangle/ds, w0, dw/ds
-        self.perm = np.zeros((n, 3), dtype=np.int64)
-        for i, e in enumerate(self.evals):
-            self.perm[i] = e._perm
-            if e.kind == "line":
-                assert e._line is not None
-                self.p0[i], self.d[i] = e._line
-            elif e.kind == "arc":
-                assert e._arc is not None
-                cu, cv, r, a0, sweep, w0, w1 = e._arc
-                self.kind[i] = 1
-                self.arc[i] = (cu, cv, r, a0, sweep / e.length, w0, (w1 - w0) / e.length)
-            else:
-                self.kind[i] = 2
-        self.has_poly = bool(np.any(self.kind == 2))
+        is_line = self.kind == 0
+        if line_ends:
+            ends = np.array(line_ends, dtype=float)
+            p0, p1 = ends[:, :3], ends[:, 3:]
+            ll = self.length[is_line][:, None]
+            self.p0[is_line] = p0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                self.d[is_line] = np.where(ll > 0, (p1 - p0) / ll, 0.0)
+        self.sweep = np.zeros(n)  # of every arc/helix, rad (0 elsewhere)
+        if arc_rows:
+            rows = np.array(arc_rows, dtype=float)
+            self.arc[self.kind == 1] = rows[:, :7]
+            self.sweep[self.kind == 1] = rows[:, 7]
+        self.has_poly = bool(curves)
+        self.lines_only = not (arc_rows or curves)
         # the curves' samples concatenated (quintic and cubic ones apart): every (segment, s) pair
         # on a curve is evaluated in one call
-        curves = [i for i in range(n) if self.kind[i] == 2]
-        quintic = {i: self.evals[i]._poly[3] is not None for i in curves}  # type: ignore[index]
+        quintic = {i: e._poly[3] is not None for i, e in curves.items()}  # type: ignore[index]
         self._curves = [
-            _Concatenated([(i, self.evals[i]) for i in curves if quintic[i] == q], n) for q in (True, False)
+            _Concatenated([(i, e) for i, e in curves.items() if quintic[i] == q], n) for q in (True, False)
         ]
 
     def eval(self, iseg: np.ndarray, s_local: np.ndarray, order: int) -> np.ndarray:
@@ -237,6 +265,13 @@ class PathArrays:
         """The derivatives of the given ``orders`` (0..2) in xyz at local arc lengths ``s_local`` of
         the segments ``iseg``, one n×3 array per order."""
         n = s_local.shape[0]
+        if self.lines_only and self.identity:
+            # the same values as below without the masks and the scatter of the columns
+            return [
+                self.p0[iseg] + s_local[:, None] * self.d[iseg] if o == 0 else self.d[iseg] if o == 1
+                else np.zeros((n, 3))
+                for o in orders
+            ]
         uvw = {o: np.zeros((n, 3)) for o in orders}
         kind = self.kind[iseg]
         m = kind == 0
@@ -260,17 +295,47 @@ class PathArrays:
             if 2 in uvw:
                 k = r * da * da
                 uvw[2][m] = np.stack((-k * ca, -k * sa, np.zeros_like(k)), axis=1)
-        rows = np.arange(n)[:, None]
-        cols = self.perm[iseg]
         out = []
         curves = np.nonzero(kind == 2)[0]
         for o in orders:
-            res = np.empty_like(uvw[o])
-            res[rows, cols] = uvw[o]
+            if self.identity:
+                res = uvw[o]
+            else:
+                res = np.empty_like(uvw[o])
+                res[np.arange(n)[:, None], self.perm[iseg]] = uvw[o]
             for group in self._curves if len(curves) else ():
                 group.eval_into(res, curves, iseg[curves], s_local[curves], o)
             out.append(res)
         return out
+
+
+class _Evaluators(Sequence[SegmentEval]):
+    """The :class:`SegmentEval` of every segment of a :class:`PathArrays`, made when first asked
+    for (the arrays hold what the lines and arcs need; the curves' evaluators are made at once)."""
+
+    def __init__(self, segments: list[Segment], made: dict[int, SegmentEval]) -> None:
+        self._segments = segments
+        self._made = made
+
+    def __len__(self) -> int:
+        return len(self._segments)
+
+    @overload
+    def __getitem__(self, k: int) -> SegmentEval: ...
+
+    @overload
+    def __getitem__(self, k: slice) -> list[SegmentEval]: ...
+
+    def __getitem__(self, k: int | slice) -> SegmentEval | list[SegmentEval]:
+        if isinstance(k, slice):
+            return [self[i] for i in range(*k.indices(len(self)))]
+        k = operator.index(k)
+        if k < 0:
+            k += len(self._segments)
+        ev = self._made.get(k)
+        if ev is None:
+            ev = self._made[k] = SegmentEval(self._segments[k])
+        return ev
 
 
 class _Concatenated:

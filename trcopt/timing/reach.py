@@ -119,11 +119,25 @@ def pass_coefficients(
         flat = (~up) & (~lo) & (alpha > tiny)
         q = np.minimum(q, np.where(flat, gamma / np.where(flat, alpha, 1.0), np.inf).min(axis=1))
         idx = np.nonzero(curved)[0]
+        # rows in pairs of opposite sign (the ± rows of interval_rows): of each pair at most one row
+        # bounds y above and one below, so only those rows are paired (the pairs left out are ∞)
+        bc = beta[idx]
+        paired = bc.shape[1] == 12 and bool(
+            np.array_equal(bc[:, 3:6], -bc[:, 0:3]) and np.array_equal(bc[:, 9:12], -bc[:, 6:9])
+        )
         for chunk in np.array_split(idx, max(1, idx.shape[0] // 4096)):
             if chunk.shape[0] == 0:
                 continue
-            num = cu[chunk, None, :] - cl[chunk, :, None]
-            den = ml[chunk, :, None] - mu[chunk, None, :]
+            if paired:
+                b = beta[chunk][:, _PAIRS]
+                rows = chunk[:, None]
+                u_col = np.where(b > tiny, _PAIRS, _PAIRS + 3)
+                l_col = np.where(b < -tiny, _PAIRS, _PAIRS + 3)
+                num = cu[rows, u_col][:, None, :] - cl[rows, l_col][:, :, None]
+                den = ml[rows, l_col][:, :, None] - mu[rows, u_col][:, None, :]
+            else:
+                num = cu[chunk, None, :] - cl[chunk, :, None]
+                den = ml[chunk, :, None] - mu[chunk, None, :]
             ok = den > tiny
             pair = np.where(ok, num / np.where(ok, den, 1.0), np.inf)
             q[chunk] = np.minimum(q[chunk], pair.reshape(chunk.shape[0], -1).min(axis=1))
@@ -133,6 +147,9 @@ def pass_coefficients(
         zl = np.where(lo, cl, -np.inf)
     del n
     return q, wb, zb, np.stack((wf, wl)), np.stack((zf, zl))
+
+
+_PAIRS = np.array([0, 1, 2, 6, 7, 8])  # the first row of every ± pair of interval_rows (the other: +3)
 
 
 def solve_lockstep(
@@ -162,19 +179,35 @@ def solve_lockstep(
         continuing a solved profile).
     """
     G, N = q.shape
-    B = np.empty((G, N + 1))
-    B[:, N] = xmax[:, N]
-    cap = np.minimum(xmax[:, :N], q)
+    # the passes step along the intervals (the interval first: copies for a few long pieces, views
+    # for many short ones; the ufuncs writing into buffers) — the operations of
+    #   B_i = min(cap_i, min_l(B_{i+1}·wb_l + zb_l)),  F_{i+1} = max(min(B_{i+1}, min_u(F_i·wu + zu)), 0)
+    def steps(a: np.ndarray) -> np.ndarray:
+        view = a.transpose(1, 0, 2)
+        return np.ascontiguousarray(view) if G <= 8 else view
+
+    mul, add, least, lower = np.multiply, np.add, np.minimum.reduce, np.minimum
+    tmp = np.empty((G, wb.shape[2]))
+    cap = np.minimum(xmax[:, :N], q).T
+    wbt, zbt = steps(wb), steps(zb)
+    Bt = np.empty((N + 1, G))
+    Bt[N] = xmax[:, N]
     for i in range(N - 1, -1, -1):
-        K = B[:, i + 1]
-        B[:, i] = np.minimum(cap[:, i], (K[:, None] * wb[:, i] + zb[:, i]).min(axis=1))
-    np.maximum(B, 0.0, out=B)
-    F = np.empty((G, N + 1))
-    F[:, 0] = B[:, 0] if start is None else start  # a given start: known to be reachable
-    wu, zu = wf[0], zf[0]
+        mul(Bt[i + 1, :, None], wbt[i], out=tmp)
+        add(tmp, zbt[i], out=tmp)
+        lower(cap[i], least(tmp, axis=1), out=Bt[i])
+    np.maximum(Bt, 0.0, out=Bt)
+    B = np.ascontiguousarray(Bt.T)
+    Ft = np.empty((N + 1, G))
+    Ft[0] = B[:, 0] if start is None else start  # a given start: known to be reachable
+    wut, zut = steps(wf[0]), steps(zf[0])
+    y = np.empty(G)
     for i in range(N):
-        y = (F[:, i, None] * wu[:, i] + zu[:, i]).min(axis=1)
-        F[:, i + 1] = np.maximum(np.minimum(B[:, i + 1], y), 0.0)
+        mul(Ft[i, :, None], wut[i], out=tmp)
+        add(tmp, zut[i], out=tmp)
+        lower(Bt[i + 1], least(tmp, axis=1), out=y)
+        np.maximum(y, 0.0, out=Ft[i + 1])
+    F = np.ascontiguousarray(Ft.T)
     # lower rows, checked for all intervals at once
     with np.errstate(invalid="ignore"):
         lb = (F[:, :-1, None] * wf[1] + zf[1]).max(axis=2)

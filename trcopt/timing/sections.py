@@ -124,13 +124,15 @@ def split_sections(
         )
     brk = _breaks(segments, arrays, tangent_tol_rad)
     ends = np.append(np.nonzero(brk)[0], n - 1)
-    sections = []
-    first = 0
-    for k, last in enumerate(ends):
-        s0 = float(arrays.start[first])
-        sections.append(Section(k, first, int(last), s0, float(arrays.start[last] + arrays.length[last] - s0)))
-        first = int(last) + 1
-    return sections
+    firsts = np.concatenate(([0], ends[:-1] + 1))
+    s0 = arrays.start[firsts]
+    lengths = arrays.start[ends] + arrays.length[ends] - s0
+    return [
+        Section(k, first, last, a, b)
+        for k, (first, last, a, b) in enumerate(
+            zip(firsts.tolist(), ends.tolist(), s0.tolist(), lengths.tolist(), strict=True)
+        )
+    ]
 
 
 def _breaks(segments: Sequence[Segment], arrays: PathArrays, tol: float) -> np.ndarray:
@@ -143,7 +145,7 @@ def _breaks(segments: Sequence[Segment], arrays: PathArrays, tol: float) -> np.n
         a = t_end[:-1] / np.linalg.norm(t_end[:-1], axis=1)[:, None]
         b = t_start[1:] / np.linalg.norm(t_start[1:], axis=1)[:, None]
         angle = np.arccos(np.clip((a * b).sum(axis=1), -1.0, 1.0))
-    rapid = np.array([s.is_rapid for s in segments])
+    rapid = np.array([s.is_rapid for s in segments], dtype=bool)
     stop = np.array([s.stop for s in segments[:-1]], dtype=bool)
     smooth = np.array([s.smooth_end for s in segments[:-1]], dtype=bool)
     return (~(angle <= tol) & ~smooth) | (rapid[:-1] != rapid[1:]) | stop

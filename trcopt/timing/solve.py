@@ -24,6 +24,7 @@ from trcopt.modes import TimingEngine, parse_enum
 from trcopt.path import Segment
 from trcopt.timing.own import solve_own
 from trcopt.timing.path import PathArrays
+from trcopt.timing.profiles import Profiles
 from trcopt.timing.sections import Section, axis_limits, path_speed_caps, segment_feeds, split_sections
 from trcopt.timing.toppra_engine import solve_section_toppra
 from trcopt.timing.trajectory import TimedTrajectory
@@ -78,11 +79,10 @@ def time_parameterize(
     path_amax = machine.path.amax_mm_s2
     sections = split_sections(segments, arrays, tangent_tol_rad)
     use_toppra = [engine is TimingEngine.TOPPRA] * len(sections)
-    results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+    results = Profiles()
     own = [sec for sec, t in zip(sections, use_toppra, strict=True) if not t]
     if own:
-        solved, failed = solve_own(own, arrays, speed, vmax, amax, path_amax)
-        results.update(solved)
+        results, failed = solve_own(own, arrays, speed, vmax, amax, path_amax)
         for k in failed:
             use_toppra[k] = True
     tsecs = [sec for sec, t in zip(sections, use_toppra, strict=True) if t]
@@ -92,7 +92,7 @@ def time_parameterize(
         # the segment of an interval by its midpoint: a grid point on a knot may round to either side
         mid = 0.5 * (grid[:-1] + grid[1:])
         iseg = sec.first + np.clip(np.searchsorted(local_start, mid, side="right") - 1, 0, sec.last - sec.first)
-        results[sec.index] = (grid + sec.s_start, x, iseg)
+        results.add(sec.index, grid + sec.s_start, x, iseg)
     engines = ["toppra" if t else "own" for t in use_toppra]
     return TimedTrajectory.assemble(segments, machine, feeds, arrays, sections, engines, results)
 

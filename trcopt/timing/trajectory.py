@@ -14,7 +14,7 @@ written by :mod:`trcopt.io.feed_csv` and :func:`trcopt.io.plot.plot_speed`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -24,6 +24,7 @@ from trcopt.config import Machine
 from trcopt.errors import TimingError
 from trcopt.path import Segment
 from trcopt.timing.checks import (
+    DEVIATION_PROBES,
     MAX_SAMPLES,
     SAMPLE_CHUNK,
     PathLimitReport,
@@ -37,6 +38,8 @@ from trcopt.timing.checks import (
     worst,
 )
 from trcopt.timing.path import PathArrays
+from trcopt.timing.profiles import Profiles
+from trcopt.timing.sampled import interval_kinematics, kinematics, sample_pieces, sampled_jerk
 from trcopt.timing.sections import Section, axis_limits
 from trcopt.trajectory import Samples
 
@@ -132,8 +135,11 @@ class TimedTrajectory:
         arrays: PathArrays,
         sections: Sequence[Section],
         engines: Sequence[str],
-        results: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]],
+        results: Mapping[int, tuple[np.ndarray, np.ndarray, np.ndarray]],
     ) -> TimedTrajectory:
+        if isinstance(results, Profiles):
+            s, x, iseg, starts = results.assembled([sec.index for sec in sections])
+            return cls(segments, machine, feeds, arrays, sections, engines, s, x, iseg, starts)
         ss: list[np.ndarray] = []
         xs: list[np.ndarray] = []
         segs: list[np.ndarray] = []
@@ -222,6 +228,9 @@ class TimedTrajectory:
         p, d1, d2 = self.arrays.eval012(seg, local)
         v = d1 * sd[:, None]
         a = d1 * u[:, None] + d2 * (sd * sd)[:, None]
+        if self._labels is None and seg.shape[0] <= DEVIATION_PROBES:  # a few states: only their labels
+            labels = np.array([self.segments[k].span.block_label() for k in seg.tolist()] + [None], dtype=object)
+            return Samples(ts, s, p, sd, v, a, seg, labels[:-1], u)
         if self._labels is None:
             self._labels = np.array([sg.span.block_label() for sg in self.segments], dtype=object)
         return Samples(ts, s, p, sd, v, a, seg, self._labels[seg], u)
@@ -269,33 +278,80 @@ class TimedTrajectory:
         return self._checked[key]
 
     def _check_limits(self, dt: float, tolerance: float) -> PathLimitReport:
-        # the samples in chunks (bounded memory): the largest ratios are those of all samples at once
-        vr1, ar1, fr1 = np.zeros(3), np.zeros(3), 0.0
-        pv1 = pa1 = None
-        for ts in sample_chunks(self.duration, dt):
-            smp = self.evaluate(ts)
-            vr, ar, fr = self._ratios(smp)
-            vr1, ar1, fr1 = np.maximum(vr1, vr), np.maximum(ar1, ar), max(fr1, fr)
-            pv, pa, _ = path_ratios(self.machine.path, smp)
-            pv1, pa1 = worst(pv1, pv), worst(pa1, pa)
-        grid = self.grid_states()
-        vr2, ar2, fr2 = self._ratios(grid)
-        vr, ar = np.maximum(vr1, vr2), np.maximum(ar1, ar2)
-        fr = max(fr1, fr2)
-        pv2, pa2, _ = path_ratios(self.machine.path, grid)
-        pv, pa = worst(pv1, pv2), worst(pa1, pa2)
+        # the samples that decide the maxima (trcopt.timing.sampled), in pieces (bounded memory):
+        # the largest ratios are those of every sample at once
+        vr, ar, fr = np.zeros(3), np.zeros(3), 0.0
+        pv = pa = None
+        if not self._ordered():
+            for ts in sample_chunks(self.duration, dt):
+                smp = self.evaluate(ts)
+                vr1, ar1, fr1 = self._ratios(smp)
+                vr, ar, fr = np.maximum(vr, vr1), np.maximum(ar, ar1), max(fr, fr1)
+                pv1, pa1, _ = path_ratios(self.machine.path, smp)
+                pv, pa = worst(pv, pv1), worst(pa, pa1)
+        else:
+            for _, ts, i in sample_pieces(self, dt):
+                state = interval_kinematics(self, ts, i)
+                vr1, ar1, fr1 = self._maxima(*state)
+                vr, ar, fr = np.maximum(vr, vr1), np.maximum(ar, ar1), max(fr, fr1)
+                pv1, pa1 = self._path_maxima(*state)
+                pv, pa = worst(pv, pv1), worst(pa, pa1)
+        # every grid end, evaluated inside its interval
+        m = len(self.t) - 1
+        i = np.concatenate((np.arange(m), np.arange(m)))
+        end = np.concatenate((np.zeros(m, bool), np.ones(m, bool)))
+        s = np.where(end, self.s[i + 1], self.s[i])
+        sd = np.where(end, self.sd[i + 1], self.sd[i])
+        u = self.u[i]
+        seg, v, a = kinematics(self, i, s, sd, u)
+        vr2, ar2, fr2 = self._maxima(seg, sd, v, a)
+        vr, ar = np.maximum(vr, vr2), np.maximum(ar, ar2)
+        fr = max(fr, fr2)
+        pv2, pa2 = self._path_maxima(seg, sd, v, a)
+        pv, pa = worst(pv, pv2), worst(pa, pa2)
         corner = float(self.sd[self.section_points].max())
         assert self.arrays is not None
-        dev = path_deviation(self.segments, self.arrays.start, grid)
+        # a few of the grid states compared with the exact geometry (path_deviation's probes)
+        probe = np.linspace(0, 2 * m - 1, min(2 * m, DEVIATION_PROBES)).astype(int)
+        ts = np.where(end, self.t[i + 1], self.t[i])[probe]
+        states = self._samples_at(ts, i[probe], s[probe], sd[probe], u[probe])
+        dev = path_deviation(self.segments, self.arrays.start, states)
         path_worst = worst(pv, pa)
         ok = bool(
             vr.max() <= tolerance and ar.max() <= tolerance and fr <= tolerance and corner <= 1e-6 and dev <= 1e-6
             and (path_worst is None or path_worst <= tolerance)
         )
         return PathLimitReport(
-            ok, axis_triple(vr), axis_triple(ar), fr, corner, dev, tolerance, int(grid.t.shape[0]),
+            ok, axis_triple(vr), axis_triple(ar), fr, corner, dev, tolerance, 2 * m,
             path_v_ratio=pv, path_a_ratio=pa,
         )
+
+    def _ordered(self) -> bool:
+        """True when the grid times rise (the samples of each interval are consecutive)."""
+        return len(self.t) >= 2 and bool(np.all(self.t[1:] >= self.t[:-1]))
+
+    def _maxima(
+        self, seg: np.ndarray, speed: np.ndarray, v: np.ndarray, a: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, float]:
+        """:meth:`_ratios` of the states: the largest |v|, |a| divided by the limits (the division
+        by a positive limit keeps the order: the same as the largest ratio)."""
+        vmax, amax = axis_limits(self.machine)
+        if speed.shape[0] == 0:
+            return np.zeros(3), np.zeros(3), 0.0
+        fr = float((speed / self.feeds[seg]).max()) if self.feeds.size else 0.0
+        return np.abs(v).max(axis=0) / vmax, np.abs(a).max(axis=0) / amax, fr
+
+    def _path_maxima(
+        self, seg: np.ndarray, speed: np.ndarray, v: np.ndarray, a: np.ndarray
+    ) -> tuple[float | None, float | None]:
+        """The ratios of :func:`~trcopt.timing.checks.path_ratios` (path speed and |a|) of the states."""
+        path = self.machine.path
+        pv = pa = None
+        if path.vmax_mm_s is not None:
+            pv = (float(speed.max()) if speed.size else 0.0) / path.vmax_mm_s
+        if path.amax_mm_s2 is not None:
+            pa = (float(np.linalg.norm(a, axis=1).max()) if a.size else 0.0) / path.amax_mm_s2
+        return pv, pa
 
     def binding_constraints(self) -> list[str]:
         """Per section, the constraint active for the largest share of time.
@@ -308,35 +364,36 @@ class TimedTrajectory:
             return []
         vmax, amax = axis_limits(self.machine)
         tm = 0.5 * (self.t[:-1] + self.t[1:])
-        smp = self.evaluate(tm)
-        columns = [smp.speed / self.feeds[smp.segment], np.abs(smp.v) / vmax, np.abs(smp.a) / amax]
+        i, s, speed, u = self._state_at(tm)
+        seg, v, a = kinematics(self, i, s, speed, u)
+        columns = [speed / self.feeds[seg], np.abs(v) / vmax, np.abs(a) / amax]
         names = list(BINDING_NAMES)
         path = self.machine.path
-        for name, limit, value in zip(
-            PATH_BINDING_NAMES, (path.vmax_mm_s, path.amax_mm_s2), (smp.speed, np.linalg.norm(smp.a, axis=1)),
-            strict=True,
-        ):
+        for name, limit in zip(PATH_BINDING_NAMES, (path.vmax_mm_s, path.amax_mm_s2), strict=True):
             if limit is not None:
+                value = speed if name == PATH_BINDING_NAMES[0] else np.linalg.norm(a, axis=1)
                 columns.append(value / limit)
                 names.append(name)
         ratios = np.column_stack(columns)
         which = ratios.argmax(axis=1)
         w = np.diff(self.t)
-        out = []
-        for k in range(len(self.sections)):
-            a, b = self.section_points[k], self.section_points[k + 1]
-            share = np.bincount(which[a:b], weights=w[a:b], minlength=len(names))
-            out.append(names[int(share.argmax())])
-        return out
+        # the time per section and constraint: every section's bins in one bincount (each bin sums its
+        # intervals' durations in the same order as a bincount per section)
+        n_sec, n_names = len(self.sections), len(names)
+        sec_of = np.repeat(np.arange(n_sec), np.diff(self.section_points))
+        share = np.bincount(sec_of * n_names + which, weights=w, minlength=n_sec * n_names)
+        return [names[k] for k in share.reshape(n_sec, n_names).argmax(axis=1).tolist()]
 
     def to_json(self, samples: str | None = None) -> dict[str, Any]:
         """The ``timing`` object of the plan JSON (design.md §3.1); ``samples`` names the CSV."""
         rep = self.check_limits(check_step(self.duration, 1e-3), 1.001) if self.segments else None
-        jerk = max_jerk(self)
+        jerk = self.max_jerk()
         binding = self.binding_constraints()
         sections = []
+        t = self.t.tolist()
+        points = self.section_points.tolist()
         for k, sec in enumerate(self.sections):
-            a, b = self.section_points[k], self.section_points[k + 1]
+            a, b = points[k], points[k + 1]
             sections.append({
                 "index": sec.index,
                 "first_segment": sec.first,
@@ -345,8 +402,8 @@ class TimedTrajectory:
                 "last_block": self.segments[sec.last].span.block,
                 "s_start_mm": round(sec.s_start, 9),
                 "length_mm": round(sec.length, 9),
-                "t_start_s": float(self.t[a]),
-                "t_end_s": float(self.t[b]),
+                "t_start_s": t[a],
+                "t_end_s": t[b],
                 "engine": self.engines[k],
                 "binding": binding[k],
             })
@@ -369,6 +426,13 @@ class TimedTrajectory:
             },
             "jerk_note": "finite difference at 1 kHz; acceleration-limited profiles have unbounded jerk",
         }
+
+    def max_jerk(self, dt: float = 1e-3) -> np.ndarray:
+        """:func:`~trcopt.timing.checks.max_jerk` of this profile (the same values, evaluating only
+        the samples :mod:`trcopt.timing.sampled` needs)."""
+        if not self.segments or self.duration <= dt or not self._ordered():
+            return max_jerk(self, dt)
+        return sampled_jerk(self, check_step(self.duration, dt))
 
     def __repr__(self) -> str:
         return (
