@@ -87,12 +87,12 @@ def decode_program(raw: bytes, file: str) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         pass
-    places = [i for i, b in enumerate(raw) if (b < 32 or b == 127) and b not in _TEXT_CONTROLS]
-    controls = len(places)
+    controls = sum(1 for b in raw if (b < 32 or b == 127) and b not in _TEXT_CONTROLS)
     if raw and controls / len(raw) > MAX_CONTROL_FRACTION:
+        first = next(i for i, b in enumerate(raw) if (b < 32 or b == 127) and b not in _TEXT_CONTROLS)
         raise TrcoptError(
-            f"not a text file ({controls} of {len(raw)} bytes are control characters, the first at offset {places[0]})",
+            f"not a text file ({controls} of {len(raw)} bytes are control characters, the first at offset {first})",
             code=Code.NC_NOT_TEXT,
-            span=_byte_place(raw, places[0], file),
+            span=_byte_place(raw, first, file),
         )
     return raw.decode("latin-1")
