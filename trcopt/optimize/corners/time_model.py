@@ -98,7 +98,6 @@ def estimate_time(segments: Sequence[Segment], machine: Machine) -> float:
     N = np.concatenate(node_caps)
     # a node between two segments is also capped by the next segment's first interval
     N[1:-1] = np.minimum(N[1:-1], C[1:])
-    N[:-1] = np.minimum(N[:-1], C)
     S = np.concatenate(([0.0], np.cumsum(L)))
     two_a = 2.0 * acc
     forward = two_a * S + np.minimum.accumulate(N - two_a * S)
