@@ -9,6 +9,7 @@ of design.md §3.1b (``docs/machine.md``) and falls back to :data:`DEFAULT_MACHI
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
@@ -49,10 +50,10 @@ def file_beside(program: str, suffix: str, shared: str) -> Path | None:
     """The settings file that belongs to a program file: ``<stem><suffix>`` beside it, else
     ``shared`` in its folder; None when there is none (or the program is not a file)."""
     p = Path(program)
-    if not p.name or not p.exists():
+    if not p.name or not os.path.exists(p):  # os.path: False for a name the system refuses
         return None
     for cand in (p.with_name(p.stem + suffix), p.with_name(shared)):
-        if cand.is_file():
+        if os.path.isfile(cand):
             return cand
     return None
 

@@ -203,6 +203,8 @@ def test_jumps_skip_blocks_and_labels_may_be_names():
         (("L X+0 Y+0 R0 FMAX M91",), Code.HH_NOT_MODELLED, "3"),
         (("L X+0 Y+0 R0 FMAX M120 LA5",), Code.HH_M120, "3"),
         (("CALL PGM NOT_THERE",), Code.HH_PGM_MISSING, "3"),
+        # a name the file system refuses (too long) is not there either
+        (("CALL PGM " + "N" * 300,), Code.HH_PGM_MISSING, "3"),
     ],
 )
 def test_bad_flow_is_an_error_at_its_block(blocks, code, block):

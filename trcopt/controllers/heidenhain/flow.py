@@ -24,6 +24,7 @@ a call are ``HH-LABEL``; a missing program file ``HH-PGM-MISSING``.
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -323,7 +324,9 @@ class FlowBlocks(MotionBlocks):
         base = re.split(r"[\\/:]", name)[-1]
         here = src.path.parent if src.path is not None else Path.cwd()
         candidates = [here / base] if Path(base).suffix else [here / f"{base}.h", here / f"{base}.H"]
-        found = next((p for p in candidates if p.is_file()), None)
+        # os.path.isfile: False for a name the file system refuses (too long, …), where
+        # Path.is_file raises
+        found = next((p for p in candidates if os.path.isfile(p)), None)
         if found is None:
             raise BlockError(
                 Code.HH_PGM_MISSING,

@@ -129,10 +129,10 @@ def load_tbl(path: str | os.PathLike[str], unit: ToolUnit | str = ToolUnit.INCH)
 def find_tbl(program: str) -> Path | None:
     """The tool table beside a program file: ``<stem>.tbl``, else ``tools.tbl``; None if none."""
     p = Path(program)
-    if not p.name or not p.is_file():
+    if not p.name or not os.path.isfile(p):  # os.path: False for a name the system refuses
         return None
     for cand in (p.with_suffix(".tbl"), p.with_name("tools.tbl")):
-        if cand.is_file():
+        if os.path.isfile(cand):
             return cand
     return None
 
@@ -168,7 +168,7 @@ def load_parameters(
             if base is None:
                 continue
             cand = Path(base).with_name(PARAMS_FILE)
-            if Path(base).name and cand.is_file():
+            if Path(base).name and os.path.isfile(cand):
                 path = cand
                 break
     if path is None:
