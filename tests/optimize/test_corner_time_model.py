@@ -80,3 +80,30 @@ def test_quicker_trusts_the_model_only_beyond_its_margin(monkeypatch: pytest.Mon
     close = [_seg(Line((0.0, 0.0, 0.0), (50.0, 0.0, 0.0)), 100.0 * (1 - time_model.MODEL_MARGIN / 4))]
     assert quicker(fast, close, DEFAULT_MACHINE) and not quicker(close, fast, DEFAULT_MACHINE)
     assert len(calls) == 4  # within the margin: the timing stage times both, both ways
+
+
+def test_a_g2_plan_that_cannot_be_timed_gives_the_circles_and_says_why(monkeypatch: pytest.MonkeyPatch) -> None:
+    from pathlib import Path
+
+    from trcopt.errors import TimingError
+    from trcopt.geometry import Poly
+    from trcopt.modes import TransitionKind
+    from trcopt.optimize.corners import blend_corners, selection
+    from trcopt.pipeline import PlanOptions, plan
+
+    real = time_model.estimate_time
+
+    def refusing(segs, machine):  # type: ignore[no-untyped-def]
+        if any(isinstance(s.geometry, Poly) for s in segs):
+            raise TimingError("no profile for this curve")
+        return real(segs, machine)
+
+    monkeypatch.setattr(time_model, "estimate_time", refusing)
+    monkeypatch.setattr(selection, "estimate_time", refusing)
+    prog = Path(__file__).resolve().parents[2] / "problems" / "corners" / "cam_quarter_circle.mpf"
+    r = plan(prog.read_text(), file=prog.name, options=PlanOptions(timing=False))
+    out = blend_corners(r.toolpath, r.programmed, tolerance_mm=0.01, mode="optimal")
+    assert out.count(TransitionKind.SPLINE) == 0 and out.count(TransitionKind.ARC) > 0
+    reasons = {c.reason for c in out.corners if c.transition is TransitionKind.ARC}
+    why = "the G2 plan could not be timed (no profile for this curve)"
+    assert any(r and r.startswith(why) for r in reasons), reasons

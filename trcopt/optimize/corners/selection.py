@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 from trcopt.config import DEFAULT_MACHINE
+from trcopt.errors import TimingError
 from trcopt.geometry import Arc
 from trcopt.modes import TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
@@ -25,7 +26,7 @@ from trcopt.optimize.corners.curves import quintic_basis
 from trcopt.optimize.corners.qp import CornerGeometry
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
-from trcopt.optimize.corners.time_model import quicker
+from trcopt.optimize.corners.time_model import estimate_time, quicker
 
 __all__ = ["fastest"]
 
@@ -43,6 +44,11 @@ def fastest(
     arc = circles if circles is not None else arc_transitions(replace(job, strategy="arc", toolpath=segs))
     why_arc = "circular blends everywhere are faster than the G2 transitions (cycle time)"
     best = optimal if quicker(optimal.segments, arc.segments, m) else arc
+    if best is arc:
+        try:
+            estimate_time(optimal.segments, m)
+        except TimingError as exc:  # a G2 plan the timing stage cannot parameterise is not chosen
+            why_arc = f"the G2 plan could not be timed ({exc.message}): circular blends"
     a_lat = min(m.axis("X").amax_mm_s2, m.axis("Y").amax_mm_s2)
     single = plan.single
     choice = {}
