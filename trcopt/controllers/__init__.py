@@ -9,7 +9,8 @@ one folder plus one line in ``_BUILTIN`` below (or :func:`register` at run time)
   valid options;
 * :func:`detect` — the controller of a program, from its file suffix, else its text, else the
   first registered controller;
-* :func:`read_program` — program text (or a path) → canonical moves, by the controller's reader.
+* :func:`read_program` — program text (or a path) → canonical moves, by the controller's reader;
+* :func:`stream_program` — the same moves one at a time (bounded memory for large programs).
 """
 
 from __future__ import annotations
@@ -26,10 +27,13 @@ from trcopt.modes import ToolUnit, parse_enum
 from trcopt.nc.limits import check_moves
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import NcProgram
+from trcopt.nc.stream import MoveStream
 from trcopt.nc.text import decode_program
 from trcopt.nc.tools import ToolEdge
 
-__all__ = ["Controller", "names", "dialects", "get", "detect", "register", "unregister", "read_program"]
+__all__ = [
+    "Controller", "names", "dialects", "get", "detect", "register", "unregister", "read_program", "stream_program",
+]
 
 _BUILTIN = (siemens.CONTROLLER, heidenhain.CONTROLLER, linuxcnc.CONTROLLER)
 _REGISTRY: dict[str, Controller] = {c.name: c for c in _BUILTIN}
@@ -131,6 +135,53 @@ def read_program(
     zero_offsets:
         SINUMERIK settable zero offsets (TOML, G54…); default: ``<program>.offsets.toml`` beside it.
     """
+    controller, text, options = _prepared(
+        source, file, dialect, tools, tolerances, max_disc, tool_table, tool_unit, appr_radius, zero_offsets
+    )
+    program = controller.read(text, options)
+    # every number a move carries is finite and within trcopt.nc.limits before any stage uses it
+    moves, diagnostics = check_moves(program.moves, program.diagnostics)
+    if len(moves) == len(program.moves):
+        return program
+    return dataclasses.replace(program, moves=moves, diagnostics=diagnostics)
+
+
+def stream_program(
+    source: str | os.PathLike[str],
+    file: str | None = None,
+    dialect: str = "auto",
+    tools: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None = None,
+    tolerances: Tolerances | None = None,
+    max_disc: int = 50,
+    tool_table: str | os.PathLike[str] | None = None,
+    tool_unit: str | ToolUnit = ToolUnit.PROGRAM,
+    appr_radius: str = "centre",
+    zero_offsets: str | os.PathLike[str] | None = None,
+) -> MoveStream:
+    """:func:`read_program` as a stream of moves (same arguments, same moves and diagnostics):
+    block by block where the controller's reader can run so (``Controller.stream``), else from
+    the program read whole. The moves are range-checked as they pass (:mod:`trcopt.nc.stream`)."""
+    controller, text, options = _prepared(
+        source, file, dialect, tools, tolerances, max_disc, tool_table, tool_unit, appr_radius, zero_offsets
+    )
+    if controller.stream is None:
+        return MoveStream.of(controller.read(text, options))
+    return controller.stream(text, options)
+
+
+def _prepared(
+    source: str | os.PathLike[str],
+    file: str | None,
+    dialect: str,
+    tools: Mapping[tuple[int, int], ToolEdge | Mapping[str, object]] | None,
+    tolerances: Tolerances | None,
+    max_disc: int,
+    tool_table: str | os.PathLike[str] | None,
+    tool_unit: str | ToolUnit,
+    appr_radius: str,
+    zero_offsets: str | os.PathLike[str] | None,
+) -> tuple[Controller, str, ReadOptions]:
+    """The controller, the program text and the reader's options of :func:`read_program`."""
     if isinstance(source, os.PathLike):
         path = os.fspath(source)
         with open(path, "rb") as fh:
@@ -150,9 +201,4 @@ def read_program(
         appr_radius=appr_radius,
         zero_offsets=zero_offsets,
     )
-    program = controller.read(text, options)
-    # every number a move carries is finite and within trcopt.nc.limits before any stage uses it
-    moves, diagnostics = check_moves(program.moves, program.diagnostics)
-    if len(moves) == len(program.moves):
-        return program
-    return dataclasses.replace(program, moves=moves, diagnostics=diagnostics)
+    return controller, text, options

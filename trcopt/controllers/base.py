@@ -16,12 +16,16 @@ from trcopt.errors import Diagnostic
 from trcopt.io.gcode import GcodeFlavor
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import Move, NcProgram
+from trcopt.nc.stream import MoveStream
 from trcopt.path import Segment
 
-__all__ = ["Controller", "ReadFn", "LeadPassFn", "CompensateFn"]
+__all__ = ["Controller", "ReadFn", "StreamFn", "LeadPassFn", "CompensateFn"]
 
 ReadFn = Callable[[str, ReadOptions], NcProgram]
 """Program text → canonical moves; never raises for a problem in the program (diagnostics)."""
+
+StreamFn = Callable[[str, ReadOptions], MoveStream]
+"""Program text → its moves as they are read (:class:`~trcopt.nc.stream.MoveStream`)."""
 
 LeadPassFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic]], Iterator[Move]]
 """Canonical moves with lead blocks → canonical moves the compensation engine runs as programmed."""
@@ -56,6 +60,9 @@ class Controller:
     recognise:
         Recognises its programs by their text when the file suffix says nothing (``None``: never
         claims a program by its text).
+    stream:
+        The reader run block by block (``None``: the reader cannot stream; the program is read
+        whole and its moves are streamed from the list).
     near_tangent_rad:
         Its compensation leaves joints whose programmed turn is at most this (rad) as they are: the
         next line starts where the tool is (LinuxCNC 0.05; 0: every joint is compensated). The
@@ -72,6 +79,7 @@ class Controller:
     leads: LeadPassFn | None = None
     recognise: Callable[[str], bool] | None = None
     near_tangent_rad: float = 0.0
+    stream: StreamFn | None = None
 
     def claims(self, text: str) -> bool:
         """True if ``text`` looks like a program of this controller."""

@@ -8,7 +8,7 @@ import re
 from trcopt.controllers.base import Controller
 from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
 from trcopt.controllers.linuxcnc.corners import TOLERANCE_CONCAVE_CORNER
-from trcopt.controllers.linuxcnc.reader import read_ngc
+from trcopt.controllers.linuxcnc.reader import read_ngc, stream_ngc
 from trcopt.io.gcode import GcodeFlavor
 
 __all__ = ["CONTROLLER", "GCODE"]
@@ -47,4 +47,5 @@ CONTROLLER = Controller(
     gcode=GCODE,
     recognise=_recognise,
     near_tangent_rad=TOLERANCE_CONCAVE_CORNER,
+    stream=stream_ngc,
 )

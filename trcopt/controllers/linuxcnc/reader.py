@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Iterator
 
 from trcopt.codes import Code
 from trcopt.controllers.linuxcnc.ngc_comment import active_comment
@@ -40,8 +41,9 @@ from trcopt.modes import Side, ToolUnit, parse_enum
 from trcopt.nc.collector import collector_paused
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import Move, NcProgram
+from trcopt.nc.stream import MoveStream, ReadSummary
 
-__all__ = ["Rs274Reader", "read_rs274", "read_ngc"]
+__all__ = ["Rs274Reader", "read_rs274", "read_ngc", "stream_ngc"]
 
 _PLANE_CODE = {Plane.G17: 170.0, Plane.G18: 180.0, Plane.G19: 190.0}
 _SIDE_CODE = {Side.OFF: 400.0, Side.LEFT: 410.0, Side.RIGHT: 420.0}
@@ -104,9 +106,14 @@ class Rs274Reader:
     # -- reading ----------------------------------------------------------------------------
     def read(self, text: str) -> NcProgram:
         with collector_paused():  # the moves are acyclic (trcopt.nc.collector)
-            return self._read(text)
+            moves = tuple(self.iter_moves(text))
+        return NcProgram(self.file, "rs274", moves, tuple(self.diags), self.blocks)
 
-    def _read(self, text: str) -> NcProgram:
+    def iter_moves(self, text: str) -> Iterator[Move]:
+        """The moves of ``text`` as they are executed (one block at a time: the program's moves
+        are never all held); when it ends, ``diags`` holds the diagnostics and ``blocks`` the
+        number of blocks executed, as :meth:`read` returns them."""
+        self.blocks = 0
         params = Parameters()
         for number, value in self.settings.parameters.items():
             params.numbered[number] = value
@@ -126,40 +133,43 @@ class Rs274Reader:
             st.pos = offsets.machine_end({0: 0.0, 1: 0.0, 2: 0.0}, st.pos)
         except OffsetError as exc:
             self.diags.append(Diagnostic(Severity.ERROR, exc.code, exc.message, SourceSpan(self.file, 0, 0)))
-            return NcProgram(self.file, "rs274", (), tuple(self.diags), 0)
+            return
         moves: list[Move] = []
-        blocks = 0
         steps = NgcFlow(self.file, text, params).blocks()
-        while True:
-            try:
-                step = next(steps, None)
-            except FlowError as err:
-                span = SourceSpan(err.file, err.line, err.column, err.block)
-                self.diags.append(Diagnostic(Severity.ERROR, err.code, err.message, span))
-                break
-            if step is None:
-                break
-            blocks += 1
-            span = SourceSpan(step.file, step.line, 1, None if step.number is None else f"N{step.number}")
-            try:
-                ended = self._block(step, span, st, moves, params)
-            except Stop as stop:
-                first = step.block.words[0][2] if step.block.words else 1
-                span = SourceSpan(span.file, span.line, stop.column or first, span.block)
-                self.diags.append(Diagnostic(Severity.ERROR, stop.code, stop.message, span))
-                break
-            except NgcError as exc:
-                span = SourceSpan(span.file, span.line, exc.column or 1, span.block)
-                self.diags.append(Diagnostic(Severity.ERROR, exc.code, exc.message, span))
-                break
-            except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
-                message = f"internal error while reading this block: {exc!r}"
-                self.diags.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
-                break
-            if ended:
-                break
-        steps.close()
-        return NcProgram(self.file, "rs274", tuple(moves), tuple(self.diags), blocks)
+        try:
+            while True:
+                try:
+                    step = next(steps, None)
+                except FlowError as err:
+                    span = SourceSpan(err.file, err.line, err.column, err.block)
+                    self.diags.append(Diagnostic(Severity.ERROR, err.code, err.message, span))
+                    break
+                if step is None:
+                    break
+                self.blocks += 1
+                span = SourceSpan(step.file, step.line, 1, None if step.number is None else f"N{step.number}")
+                try:
+                    ended = self._block(step, span, st, moves, params)
+                except Stop as stop:
+                    first = step.block.words[0][2] if step.block.words else 1
+                    span = SourceSpan(span.file, span.line, stop.column or first, span.block)
+                    self.diags.append(Diagnostic(Severity.ERROR, stop.code, stop.message, span))
+                    ended = True
+                except NgcError as exc:
+                    span = SourceSpan(span.file, span.line, exc.column or 1, span.block)
+                    self.diags.append(Diagnostic(Severity.ERROR, exc.code, exc.message, span))
+                    ended = True
+                except (ArithmeticError, LookupError, TypeError, ValueError) as exc:  # a bug must not pass silently
+                    message = f"internal error while reading this block: {exc!r}"
+                    self.diags.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
+                    ended = True
+                if moves:  # the block's moves (those before an error in it too, as read() keeps them)
+                    yield from moves
+                    moves.clear()
+                if ended:
+                    break
+        finally:
+            steps.close()
 
     def _block(self, step: Step, span: SourceSpan, st: NgcState, moves: list[Move], params: Parameters) -> bool:
         words = decode(step.block.words, st)
@@ -275,9 +285,21 @@ def read_rs274(
 def read_ngc(text: str, options: ReadOptions) -> NcProgram:
     """The controller's reader: ``options.tool_table`` is a LinuxCNC ``.tbl`` read in
     ``options.tool_unit`` (default: ``<stem>.tbl``/``tools.tbl`` beside the program)."""
+    return _reader(options).read(text)
+
+
+def stream_ngc(text: str, options: ReadOptions) -> MoveStream:
+    """:func:`read_ngc` block by block (:meth:`Rs274Reader.iter_moves`)."""
+    reader = _reader(options)
+    return MoveStream(
+        options.file, "rs274", reader.iter_moves(text), lambda: ReadSummary(list(reader.diags), reader.blocks)
+    )
+
+
+def _reader(options: ReadOptions) -> Rs274Reader:
     table: LinuxCncToolTable | str | os.PathLike[str] | None = options.tool_table
     if table is None and options.tools is not None:
         # preset edges are SINUMERIK tool data, not a LinuxCNC table: the program reads with an
         # empty table (and, as any table given, none is looked up beside the program)
         table = LinuxCncToolTable(unit=options.tool_unit)
-    return read_rs274(text, file=options.file, tools=table, tool_unit=options.tool_unit)
+    return Rs274Reader(options.file, table, options.tool_unit)
