@@ -28,7 +28,7 @@ segment on the first block, a word block its source block and line.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -37,6 +37,7 @@ from trcopt.errors import Diagnostic, Severity
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
+from trcopt.io.spill import SpilledSegments
 from trcopt.path import Segment
 
 __all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words"]
@@ -94,6 +95,25 @@ def _scaled(seg: Segment, k: float, feed_k: float) -> Segment:
         geom = replace(g, points=tuple(p(q) for q in g.points), cum=tuple(c * k for c in g.cum), curvatures=curv)
     feed = None if seg.feed_mm_s is None else seg.feed_mm_s * feed_k
     return replace(seg, geometry=geom, feed_mm_s=feed)
+
+
+class _Scaled(Sequence[Segment]):
+    """The segments of a path scaled by ``k`` (feeds by ``feed_k``), each made when it is read."""
+
+    def __init__(self, segs: Sequence[Segment], k: float, feed_k: float) -> None:
+        self.segs, self.k, self.feed_k = segs, k, feed_k
+
+    def __len__(self) -> int:
+        return len(self.segs)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return _scaled(self.segs[i], self.k, self.feed_k)
+
+    def __iter__(self) -> Iterator[Segment]:
+        for s in self.segs:
+            yield _scaled(s, self.k, self.feed_k)
 
 
 @dataclass
@@ -335,12 +355,13 @@ def plan_to_gcode_chunks(
     """
     same = (dialect or _FLAVOR_DIALECT.get(flavor.name, flavor.name)) == result.dialect
     lines = result.source.splitlines()
-    segs = list(result.toolpath)
+    # a path kept in a file (a plan made window by window) is read from it, never held whole
+    segs: Sequence[Segment] = result.toolpath if isinstance(result.toolpath, SpilledSegments) else list(result.toolpath)
     inch, feed_inch = program_units(result.source, result.dialect, segs[0].span.line if segs else None)
     preamble = list(flavor.preamble)
     if inch:
         k = 1.0 / INCH_MM
-        segs = [_scaled(s, k, k if feed_inch else 1.0) for s in segs]
+        segs = _Scaled(segs, k, k if feed_inch else 1.0)
         siemens_word = "G700" if feed_inch else "G70"  # G70: feeds stay in mm/min
         preamble = [
             p if p not in _INCH_PREAMBLE else siemens_word if flavor.name == "siemens" else _INCH_PREAMBLE[p]

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from trcopt.codes import Code, family
+from trcopt.codes import Code
 from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
@@ -21,6 +21,7 @@ from trcopt.nc.collector import collector_paused
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
+from trcopt.pipeline.summary import summary_text
 from trcopt.progress import stage
 from trcopt.trajectory import Trajectory
 
@@ -211,44 +212,10 @@ class PlanResult:
 
     def summary(self) -> str:
         """A few lines for the terminal."""
-        lines = [
-            f"{self.program}: {self.dialect}, {self.nc.blocks} blocks, "
-            f"{len(self.toolpath)} tool-centre segments, path length {self.path_length:.3f} mm",
-        ]
-        if self.timing is not None:
-            kind = "jerk-limited " if self.timing.jerk_limited else ""
-            lines.append(f"{kind}cycle time {self.timing.duration:.3f} s on {self.timing.machine.name}")
-        corners = self.extra.get("corners")
-        if corners:
-            lines.append(
-                f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended "
-                f"({corners['quintic']} G2 quintic, {corners.get('spline', 0)} on G2 splines, "
-                f"{corners['arc']} circular"
-                + (f"; {corners['curvature_jumps']} curvature jumps smoothed" if corners.get("curvature_jumps") else "")
-                + "), "
-                f"max deviation {corners['max_deviation_mm']:.4f} mm"
-                + (
-                    f" (vertex {corners['max_vertex_mm']:.4f} mm, contour {corners['max_contour_mm']:.4f} mm)"
-                    if corners.get("max_vertex_mm") is not None and corners.get("max_contour_mm") is not None
-                    else ""
-                )
-                + (
-                    f"; under jerk limits the exact path is faster ({corners['exact_duration_s']:.3f} s vs "
-                    f"{corners['transitions_duration_s']:.3f} s) and is kept"
-                    if corners.get("kept") == "exact"
-                    else ""
-                )
-            )
-        if self.verification is not None:
-            lines.append(self.verification.summary_line())
-            note = self.verification.lead_note()
-            if note:
-                lines.append(note)
-        n_err, n_warn = len(self.errors), len(self.warnings)
-        stopped = any(family(d.code) != "verification" for d in self.errors)
-        tail = "" if self.ok else " — stopped at the alarm" if stopped else " — the verification failed (strict)"
-        lines.append(f"{n_err} alarm(s), {n_warn} warning(s)" + tail)
-        return "\n".join(lines)
+        return summary_text(
+            self.program, self.dialect, self.nc.blocks, len(self.toolpath), self.path_length, self.timing,
+            self.extra.get("corners"), self.verification, self.diagnostics,
+        )
 
 
 def plan(

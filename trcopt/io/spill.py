@@ -1,0 +1,73 @@
+"""A sequence of segments kept in a temporary file: :class:`SpilledSegments`.
+
+A plan computed window by window (:mod:`trcopt.pipeline.stream`) appends each window's segments
+here (pickled, one chunk per window) and a writer that needs the whole path twice (the G-code
+writer reads it to choose its preamble, then writes it) reads it back chunk by chunk: the memory
+held is one chunk, whatever the length of the path.
+"""
+
+from __future__ import annotations
+
+import pickle
+import tempfile
+from collections.abc import Iterator, Sequence
+from typing import IO, Any, overload
+
+from trcopt.path import Segment
+
+__all__ = ["SpilledSegments"]
+
+
+class SpilledSegments(Sequence[Segment]):
+    """Segments appended in chunks to a temporary file; iterated (and indexed) from it."""
+
+    def __init__(self) -> None:
+        self._file: IO[bytes] = tempfile.TemporaryFile()  # noqa: SIM115 (closed by close())
+        self._starts: list[int] = []  # first index of every chunk
+        self._offsets: list[int] = []  # file offset of every chunk
+        self._n = 0
+        self._cache: tuple[int, list[Segment]] | None = None
+
+    def append(self, segments: Sequence[Segment]) -> None:
+        if not segments:
+            return
+        self._file.seek(0, 2)
+        self._starts.append(self._n)
+        self._offsets.append(self._file.tell())
+        pickle.dump(list(segments), self._file, protocol=pickle.HIGHEST_PROTOCOL)
+        self._n += len(segments)
+
+    def __len__(self) -> int:
+        return self._n
+
+    def _chunk(self, k: int) -> list[Segment]:
+        if self._cache is not None and self._cache[0] == k:
+            return self._cache[1]
+        self._file.seek(self._offsets[k])
+        chunk: list[Segment] = pickle.load(self._file)
+        self._cache = (k, chunk)
+        return chunk
+
+    def __iter__(self) -> Iterator[Segment]:
+        for k in range(len(self._offsets)):
+            yield from self._chunk(k)
+
+    @overload
+    def __getitem__(self, i: int) -> Segment: ...
+    @overload
+    def __getitem__(self, i: slice) -> list[Segment]: ...
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(self._n))]
+        if i < 0:
+            i += self._n
+        if not 0 <= i < self._n:
+            raise IndexError(i)
+        import bisect
+
+        k = bisect.bisect_right(self._starts, i) - 1
+        return self._chunk(k)[i - self._starts[k]]
+
+    def close(self) -> None:
+        self._cache = None
+        self._file.close()
