@@ -7,10 +7,11 @@ the alarm), 2 usage or I/O error.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from trcopt import controllers
 from trcopt.cli.common import EXIT_ALARM, EXIT_OK, EXIT_USAGE, check_outputs, err, err_exc
@@ -104,6 +105,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--workers", type=_workers, default=0,
         help="processes for --corners optimal and --jerk (default 0: one per CPU core)",
     )
+    p.add_argument(
+        "--stream", choices=("auto", "on", "off"), default="auto",
+        help="plan window by window in bounded memory: auto (programs over 1 MiB whose outputs are --json/--gcode "
+        "only), on (whenever the program and options allow), off (always the whole program)",
+    )
     p.add_argument("--quiet", "-q", action="store_true", help="print diagnostics only")
     p.set_defaults(handler=run_plan)
 
@@ -190,7 +196,7 @@ def _plan_with_progress(args: argparse.Namespace, opts: PlanOptions) -> PlanResu
 
 def run_check(args: argparse.Namespace) -> int:
     opts = _options(args)
-    result = _plan_with_progress(args, opts)
+    result = _streamed(args, opts) or _plan_with_progress(args, opts)
     _print_diagnostics(result)
     return EXIT_OK if result.ok else EXIT_ALARM
 
@@ -210,7 +216,7 @@ def run_plan(args: argparse.Namespace) -> int:
         err(problem, code="OUTPUT")
         return EXIT_USAGE
     opts = _options(args)
-    result = _plan_with_progress(args, opts)
+    result = _streamed(args, opts) or _plan_with_progress(args, opts)
     _print_diagnostics(result)
     if not args.quiet:
         print(result.summary())
@@ -312,6 +318,37 @@ def run_plan(args: argparse.Namespace) -> int:
     for st in staged:
         st.commit()
     return EXIT_OK if result.ok else EXIT_ALARM
+
+
+STREAM_MIN_BYTES = 1 << 20  # --stream auto: programs from this size are planned window by window
+
+
+def _streamed(args: argparse.Namespace, opts: PlanOptions) -> Any:
+    """The plan made window by window (:mod:`trcopt.pipeline.stream`) when ``--stream`` and the
+    outputs allow it, else None (the whole program is planned: other outputs, options or program
+    content that need it)."""
+    mode = getattr(args, "stream", "auto")
+    if mode == "off" or any(getattr(args, k, None) for k in ("svg", "html", "csv", "png")):
+        return None
+    if getattr(args, "gcode_flavor", None) == "klartext":
+        return None
+    try:
+        if mode == "auto" and os.path.getsize(args.program) < STREAM_MIN_BYTES:
+            return None
+    except OSError:
+        return None  # the whole plan reports the unreadable file
+    from trcopt.pipeline.stream import Unstreamable, plan_streamed
+    from trcopt.progress import reporting, stage, terminal_reporter
+
+    reporter = terminal_reporter(quiet=getattr(args, "quiet", False))
+    try:
+        with reporting(reporter), stage(f"planning {Path(args.program).name} window by window"):
+            return plan_streamed(
+                args.program, opts, json=bool(getattr(args, "json", None)), gcode=bool(getattr(args, "gcode", None)),
+                samples=getattr(args, "csv", None),
+            )
+    except Unstreamable:
+        return None
 
 
 def _as_file(path: str, content: str | tuple[Path, bytes]) -> tuple[Path, bytes]:

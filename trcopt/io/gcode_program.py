@@ -27,6 +27,7 @@ segment on the first block, a word block its source block and line.
 
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
@@ -37,6 +38,7 @@ from trcopt.errors import Diagnostic, Severity
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
+from trcopt.io.source_lines import SourceLines
 from trcopt.io.spill import SpilledSegments
 from trcopt.path import Segment
 
@@ -65,7 +67,7 @@ _MACHINE_WORDS = {"siemens": ("SUPA",), "linuxcnc": ("G53",), "grbl": ("G53",)}
 def program_units(source: str, dialect: str, first_motion_line: int | None) -> tuple[bool, bool]:
     """``(inch, feed_inch)``: whether the program's lengths are in inch at its first motion and
     whether its feeds are too (SINUMERIK ``G70`` keeps feeds in mm/min, ``G700`` does not)."""
-    lines = source.splitlines()[: first_motion_line or None]
+    lines = itertools.islice(SourceLines(source), first_motion_line)  # up to the first motion
     if dialect == "heidenhain":
         inch = any(re.match(r"\s*\d*\s*BEGIN\s+PGM\s+\S+\s+INCH\b", ln, re.I) for ln in lines)
         return inch, inch
@@ -182,7 +184,7 @@ def _translate(words: list[str], same: bool, flavor: GcodeFlavor, source_line: s
     return kept, comments
 
 
-def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str]) -> list[_Group]:
+def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[str]) -> list[_Group]:
     by_line: dict[int, _Group] = {}
 
     def group(line: int, block: str | None) -> _Group:
@@ -237,7 +239,7 @@ def _in_run_order(result: Any) -> bool:
     )
 
 
-def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str]) -> list[tuple[Any, _Group]]:
+def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[str]) -> list[tuple[Any, _Group]]:
     """The words of every move in the order the moves run (one group per move)."""
     out = []
     for m in result.nc.moves:
@@ -264,7 +266,8 @@ def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: list[str])
 
 
 def _write_in_run_order(
-    w: Any, result: Any, segs: list[Segment], groups: list[tuple[Any, _Group]], flush: Any, lines: list[str], inch: bool
+    w: Any, result: Any, segs: list[Segment], groups: list[tuple[Any, _Group]], flush: Any, lines: Sequence[str],
+    inch: bool,
 ) -> None:
     """Write the segments with the words of the moves they come from, in the order the moves run."""
     done = 0  # the moves before this index are written
@@ -354,7 +357,7 @@ def plan_to_gcode_chunks(
     :func:`trcopt.io.gcode.toolpath_to_gcode`'s.
     """
     same = (dialect or _FLAVOR_DIALECT.get(flavor.name, flavor.name)) == result.dialect
-    lines = result.source.splitlines()
+    lines = SourceLines(result.source)  # type: ignore[assignment]
     # a path kept in a file (a plan made window by window) is read from it, never held whole
     segs: Sequence[Segment] = result.toolpath if isinstance(result.toolpath, SpilledSegments) else list(result.toolpath)
     inch, feed_inch = program_units(result.source, result.dialect, segs[0].span.line if segs else None)
