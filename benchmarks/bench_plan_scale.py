@@ -8,6 +8,8 @@ memory by ``/usr/bin/time``): without timing, with the acceleration-limited timi
 timing and ``--json``/``--gcode`` written. The baseline of the same run is LinuxCNC's own
 interpreter ``rs274`` on the same file where it is available (built outside the project as
 ``../shared/peer_cases/linuxcnc/BUILD_RS274.md`` describes; ``--rs274``), else the rows stand alone.
+Programs over 1 MiB (10⁵ blocks and up) are planned window by window (``--stream auto``); the
+``--stream off`` row is the whole-program plan of the same program with the same outputs.
 """
 
 from __future__ import annotations
@@ -44,6 +46,10 @@ def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=" ".join(__doc__.split("\n\n")[0].split()))
     parser.add_argument("--sizes", default="10000,100000", help="chords (blocks, about) per program")
     parser.add_argument("--rs274", default=os.environ.get("RS274", "/tmp/lcnc/bin/rs274"))
+    parser.add_argument(
+        "--whole-up-to", type=int, default=100_000,
+        help="also run the whole-program plan (--stream off) up to this size (about 3 KB per block)",
+    )
     args = parser.parse_args(argv)
     table = Path("/work/shared/peer_cases/linuxcnc/_default-tooltable/sim.tbl")
     rs274 = args.rs274 if Path(args.rs274).exists() and table.exists() else None
@@ -61,11 +67,15 @@ def main(argv: list[str]) -> int:
                 base = wall
                 print(f"| {blocks:,} | rs274 (baseline) | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} "
                       "| 1.00 |")
+            outputs = ["--json", f"{tmp}/o.json", "--gcode", f"{tmp}/o.ngc"]
             runs = [
                 ("trcopt plan --no-timing", [*py, str(prog), "--no-timing"]),
                 ("trcopt plan (timing)", [*py, str(prog)]),
-                ("trcopt plan --json --gcode", [*py, str(prog), "--json", f"{tmp}/o.json", "--gcode", f"{tmp}/o.ngc"]),
+                ("trcopt plan --json --gcode", [*py, str(prog), *outputs]),
             ]
+            if chords <= args.whole_up_to:
+                # the whole-program plan (the default for programs under 1 MiB) at the same size
+                runs.append(("trcopt plan --json --gcode --stream off", [*py, str(prog), *outputs, "--stream", "off"]))
             for name, cmd in runs:
                 wall, peak, code = run(cmd)
                 ratio = f"{wall / base:.1f}" if base else "–"

@@ -22,7 +22,7 @@ reports it as :func:`~trcopt.pipeline.plan` does).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -228,17 +228,32 @@ def plan_streamed(
     del raw
     reader = controllers.detect(path, text) if opts.dialect == AUTO else _controller(opts.dialect, "dialect")
     profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
-    stream = controllers.stream_program(
-        text, file=path, dialect=reader.name, tolerances=settings.tolerances, max_disc=settings.cutcom_max_disc,
-        tool_table=opts.tool_table, zero_offsets=opts.zero_offsets, tool_unit=opts.tool_unit,
-        appr_radius=opts.appr_radius.value,
-    )
+    def read(lead_diags: list[Diagnostic]) -> Iterator[Move]:
+        stream = controllers.stream_program(
+            text, file=path, dialect=reader.name, tolerances=settings.tolerances,
+            max_disc=settings.cutcom_max_disc, tool_table=opts.tool_table, zero_offsets=opts.zero_offsets,
+            tool_unit=opts.tool_unit, appr_radius=opts.appr_radius.value,
+        )
+        streams.append(stream)
+        return stream if reader.leads is None else reader.leads(stream, settings, lead_diags)
+
+    def part() -> Iterator[Segment]:
+        """The programmed contour of a first reading (the verification's part, known in advance)."""
+        tol = settings.tolerances.coincidence_mm
+        for m in _Moves(iter(read([])), path, tol).checked():
+            seg = programmed_segment(m, tol)
+            if seg is not None:
+                yield seg
+
+    streams: list[Any] = []
+    run = _Run(opts, settings, profile, None, samples, part)
     lead_diags: list[Diagnostic] = []
     comp_diags: list[Diagnostic] = []
-    moves = stream if reader.leads is None else reader.leads(stream, settings, lead_diags)
+    moves = read(lead_diags)
+    stream = streams[-1]
     tee = _Moves(iter(moves), path, settings.tolerances.coincidence_mm)
     out = _Outputs(ArrayText(1, True), ArrayText(1, True), ArrayText(2, False)) if json else None
-    run = _Run(opts, settings, profile, out, samples)
+    run.out = out
     if gcode:
         from trcopt.io.spill import SpilledSegments
 
@@ -286,13 +301,17 @@ class _Complete:
 class _Run:
     """The stages after the compensation, one window at a time."""
 
-    def __init__(self, opts: PlanOptions, settings: Any, profile: Any, out: _Outputs | None, samples: str | None):
+    def __init__(
+        self, opts: PlanOptions, settings: Any, profile: Any, out: _Outputs | None, samples: str | None,
+        part: Callable[[], Iterator[Segment]],
+    ) -> None:
         self.opts, self.out, self.samples = opts, out, samples
         self.verifier = None
         if opts.verify:
             from trcopt.verify.stream import StreamVerifier
 
-            self.verifier = StreamVerifier(settings, near_tangent_rad=profile.near_tangent_rad)
+            # the part contour of a first reading: each window is checked against all of it
+            self.verifier = StreamVerifier(settings, near_tangent_rad=profile.near_tangent_rad, part=part())
         self.timing = _Timing(opts.machine) if opts.timing else None
         self.profile = profile.name
         self.segments, self.length = 0, 0.0
@@ -370,7 +389,8 @@ class _Moves:
         self.pending: list[Move] = []
         self._line = 0
 
-    def __iter__(self) -> Iterator[Move]:
+    def checked(self) -> Iterator[Move]:
+        """The moves, refused (``Unstreamable``) where the program needs the whole plan."""
         for m in self._moves:
             span = m.span
             if span.file != self.file or span.line < self._line:
@@ -378,6 +398,10 @@ class _Moves:
             if m.control.mode is PathMode.BLEND:
                 raise Unstreamable(f"its path-control mode rounds corners ({m.control.word or 'blend'})")
             self._line = span.line
+            yield m
+
+    def __iter__(self) -> Iterator[Move]:
+        for m in self.checked():
             self.pending.append(m)
             seg = programmed_segment(m, self.tol)
             if seg is not None:

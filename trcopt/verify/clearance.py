@@ -3,7 +3,8 @@ programmed part elements near it (:func:`clearance_distances`), for :func:`trcop
 
 from __future__ import annotations
 
-from collections.abc import Collection, Sequence
+from collections.abc import Callable, Collection, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -13,7 +14,7 @@ from trcopt.verify.model import element_distance, line_pair_distances_uv
 from trcopt.verify.pairs import arc_pair_distances
 from trcopt.verify.table import LINE, OTHER, SegmentTable
 
-__all__ = ["clearance_distances", "QUERY_CHUNK", "PAIR_CHUNK"]
+__all__ = ["clearance_distances", "pair_distances", "QUERY_CHUNK", "PAIR_CHUNK"]
 
 QUERY_CHUNK = 1 << 13  # tool segments whose candidates are gathered at once (bounded memory)
 PAIR_CHUNK = 1 << 16  # pairs of lines measured at once
@@ -58,6 +59,17 @@ def clearance_distances(
         pk_parts.append(kk[a + q])
         pi_parts.append(i.astype(np.intp))
     pk, pi = np.concatenate(pk_parts), np.concatenate(pi_parts)
+    dist = pair_distances(tool, part_table, pk, pi, lambda k: toolpath[k].geometry, lambda i: part[i].geometry)
+    return ks, pk, pi, dist
+
+
+def pair_distances(
+    tool: SegmentTable, part_table: SegmentTable, pk: np.ndarray, pi: np.ndarray,
+    tool_geometry: Callable[[int], Any], part_geometry: Callable[[int], Any],
+) -> np.ndarray:
+    """The exact distances of the pairs (row ``pk`` of ``tool``, row ``pi`` of ``part_table``):
+    lines all at once, lines and arcs too, polynomial curves one by one (``tool_geometry``,
+    ``part_geometry``: the geometry of a row)."""
     lines = (tool.kind[pk] == LINE) & (part_table.kind[pi] == LINE)
     dist = np.empty(len(pk))
     both = np.nonzero(lines)[0]
@@ -76,5 +88,5 @@ def clearance_distances(
         dist[n[ok]] = d[ok]
         one_by_one.append(n[~ok])
     for n in np.concatenate(one_by_one).tolist():
-        dist[n] = element_distance(toolpath[int(pk[n])].geometry, part[int(pi[n])].geometry)[0]
-    return ks, pk, pi, dist
+        dist[n] = element_distance(tool_geometry(int(pk[n])), part_geometry(int(pi[n])))[0]
+    return dist

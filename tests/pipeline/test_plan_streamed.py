@@ -1,0 +1,136 @@
+"""A plan made window by window (``trcopt.pipeline.stream``) equals the whole plan: the same JSON
+(segment and section times to rounding: each window's times start at the sum of the previous
+windows'), the same G-code text, the same summary and exit code — on the problem suite, with
+windows of a few segments so that every kind of joint meets a window end."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from trcopt import controllers
+from trcopt.cli import main
+from trcopt.io.gcode_program import plan_to_gcode_chunks
+from trcopt.pipeline import PlanOptions, plan_file
+from trcopt.pipeline.stream import Unstreamable, plan_streamed
+
+ROOT = Path(__file__).resolve().parents[2]
+PROBLEMS = sorted(
+    p for p in (ROOT / "problems").rglob("*") if p.suffix.lower() in (".ngc", ".mpf", ".spf", ".h", ".nc")
+)
+# a section whose time splits evenly between two constraints (a rapid that accelerates for as long
+# as it cruises at vmax) names either, by the rounding of its own times: at most one such section,
+# or this share of them, may name the other
+BINDING_TIES = 0.02
+
+
+def _close(a: Any, b: Any, path: str = "") -> None:
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and list(a) == list(b), (path, list(a), list(b))
+        for k in a:
+            _close(a[k], b[k], f"{path}/{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), (path, len(a), len(b))
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            _close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) and isinstance(b, (int, float)) and not isinstance(b, bool):
+        # sampled maxima are sampled at each window's own times; times and lengths are sums
+        tol = 2e-3 if "max_ratios" in path or "max_jerk" in path else 1e-9
+        assert math.isclose(a, b, rel_tol=tol, abs_tol=tol), (path, a, b)
+    else:
+        assert a == b, (path, a, b)
+
+
+def _compare(whole_json: dict[str, Any], streamed_json: dict[str, Any]) -> None:
+    for d in (whole_json, streamed_json):
+        d.get("verification", {}).pop("elapsed_s", None)
+    ws = (whole_json.get("timing") or {}).get("sections") or []
+    ss = (streamed_json.get("timing") or {}).get("sections") or []
+    assert len(ws) == len(ss)
+    ties = sum(a["binding"] != b["binding"] for a, b in zip(ws, ss, strict=True))
+    assert ties <= max(1.0, BINDING_TIES * len(ws))
+    for a, b in zip(ws, ss, strict=True):
+        b["binding"] = a["binding"]
+    _close(whole_json, streamed_json)
+
+
+@pytest.mark.parametrize("path", PROBLEMS, ids=lambda p: p.name)
+def test_streamed_plan_equals_the_whole_plan(path: Path) -> None:
+    opts = PlanOptions()
+    whole = plan_file(path, opts)
+    flavor = controllers.get(whole.dialect).gcode
+    for window in (2, 37):
+        try:
+            streamed = plan_streamed(str(path), opts, json=True, gcode=True, window=window)
+        except Unstreamable:
+            pytest.skip("the program needs the whole plan")
+        gcode_whole = "".join(plan_to_gcode_chunks(whole, flavor=flavor, program_name="p"))
+        gcode_streamed = "".join(plan_to_gcode_chunks(streamed, flavor=flavor, program_name="p"))
+        assert gcode_streamed == gcode_whole
+        _compare(json.loads("".join(whole.json_chunks())), json.loads("".join(streamed.json_chunks())))
+        assert streamed.ok == whole.ok
+        assert streamed.summary().splitlines()[1:] == whole.summary().splitlines()[1:]
+
+
+def test_most_problems_stream() -> None:
+    """The fallback is for what needs it, not the rule."""
+    taken = 0
+    for path in PROBLEMS:
+        try:
+            plan_streamed(str(path), PlanOptions(timing=False, verify=False))
+            taken += 1
+        except Unstreamable:
+            pass
+    assert taken >= 0.8 * len(PROBLEMS)
+
+
+@pytest.mark.parametrize(
+    ("text", "options", "why"),
+    [
+        ("G21 G90\nG64 P0.01\nG1 F600 X10\nX10 Y10\nM2\n", {}, "rounds corners"),
+        ("G21 G90\nG1 F600 X10\nX10 Y10\nM2\n", {"jerk": True}, "jerk"),
+        ("G21 G90\nG1 F600 X10\nX10 Y10\nM2\n", {"corners": "arc"}, "corners"),
+        ("G21 G90\no100 sub\nG1 X5\no100 endsub\nG1 F600 X10\no100 call\nM2\n", {}, "out of line order"),
+    ],
+)
+def test_what_needs_the_whole_plan_is_refused_before_any_output(
+    tmp_path: Path, text: str, options: dict[str, Any], why: str
+) -> None:
+    prog = tmp_path / "p.ngc"
+    prog.write_text(text)
+    with pytest.raises(Unstreamable, match=why):
+        plan_streamed(str(prog), PlanOptions(**options), json=True, gcode=True)
+
+
+def test_cli_stream_on_writes_what_the_whole_plan_writes(tmp_path: Path, capsys: Any) -> None:
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from bench_cam_scale import contour
+
+    prog = tmp_path / "cam.ngc"
+    prog.write_text(contour(300, compensated=True))
+    outs = {}
+    for mode in ("on", "off"):
+        j, g = tmp_path / f"{mode}.json", tmp_path / f"{mode}.ngc"
+        rc = main(["plan", str(prog), "--stream", mode, "--json", str(j), "--gcode", str(g)])
+        outs[mode] = (rc, capsys.readouterr().out, json.loads(j.read_text()), g.read_text())
+    (rc_on, out_on, json_on, g_on), (rc_off, out_off, json_off, g_off) = outs["on"], outs["off"]
+    assert rc_on == rc_off == 0 and out_on == out_off and g_on == g_off
+    _compare(json_off, json_on)
+
+
+def test_cli_stream_reports_an_alarm_as_the_whole_plan(tmp_path: Path, capsys: Any) -> None:
+    prog = tmp_path / "bad.ngc"
+    prog.write_text("G21 G90 G17\nG0 X0 Y0\nG41.1 D2\nG1 F600 X10 Y0\nX10 Y10\nX0 Y10\nG2 X0 Y10 I-1\nQ5\nM2\n")
+    results = []
+    for mode in ("on", "off"):
+        j = tmp_path / f"{mode}.json"
+        rc = main(["plan", str(prog), "--stream", mode, "--json", str(j)])
+        results.append((rc, capsys.readouterr(), json.loads(j.read_text())))
+    (rc_on, cap_on, json_on), (rc_off, cap_off, json_off) = results
+    assert rc_on == rc_off == 1 and not json_on["ok"] and cap_on.out == cap_off.out and cap_on.err == cap_off.err
+    _compare(json_off, json_on)
