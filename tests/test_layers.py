@@ -18,13 +18,14 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "trcopt"
 
-BASE = {"units", "errors", "codes", "modes", "geometry", "solution", "lazy", "progress"}
+BASE = {"units", "errors", "codes", "modes", "geometry", "solution", "lazy", "progress", "textlines"}
 # room → the rooms it may import (besides itself). Lower rooms never import higher ones; timing and
 # io know only tool-path segments; geometry knows no program text; nothing imports pipeline or cli
 # except the command line itself.
 ALLOWED: dict[str, set[str]] = {
     "units": set(),
     "lazy": set(),
+    "textlines": set(),
     "progress": set(),
     "errors": {"codes"},
     "codes": set(),

@@ -38,9 +38,9 @@ from trcopt.errors import Diagnostic, Severity
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
-from trcopt.io.source_lines import SourceLines
 from trcopt.io.spill import SpilledSegments
 from trcopt.path import Segment
+from trcopt.textlines import TextLines
 
 __all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words"]
 
@@ -67,7 +67,7 @@ _MACHINE_WORDS = {"siemens": ("SUPA",), "linuxcnc": ("G53",), "grbl": ("G53",)}
 def program_units(source: str, dialect: str, first_motion_line: int | None) -> tuple[bool, bool]:
     """``(inch, feed_inch)``: whether the program's lengths are in inch at its first motion and
     whether its feeds are too (SINUMERIK ``G70`` keeps feeds in mm/min, ``G700`` does not)."""
-    lines = itertools.islice(SourceLines(source), first_motion_line)  # up to the first motion
+    lines = itertools.islice(TextLines(source), first_motion_line)  # up to the first motion
     if dialect == "heidenhain":
         inch = any(re.match(r"\s*\d*\s*BEGIN\s+PGM\s+\S+\s+INCH\b", ln, re.I) for ln in lines)
         return inch, inch
@@ -357,7 +357,7 @@ def plan_to_gcode_chunks(
     :func:`trcopt.io.gcode.toolpath_to_gcode`'s.
     """
     same = (dialect or _FLAVOR_DIALECT.get(flavor.name, flavor.name)) == result.dialect
-    lines = SourceLines(result.source)  # type: ignore[assignment]
+    lines = TextLines(result.source)  # type: ignore[assignment]
     # a path kept in a file (a plan made window by window) is read from it, never held whole
     segs: Sequence[Segment] = result.toolpath if isinstance(result.toolpath, SpilledSegments) else list(result.toolpath)
     inch, feed_inch = program_units(result.source, result.dialect, segs[0].span.line if segs else None)

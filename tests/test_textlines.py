@@ -1,0 +1,31 @@
+"""``TextLines`` is ``program_lines`` (the lines an editor numbers) without the list."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+
+from trcopt.nc.text import program_lines
+from trcopt.textlines import TextLines
+
+
+@pytest.mark.parametrize(
+    "text", ["", "a", "a\n", "a\nb", "\n", "\n\n", "a\r\nb\rc\x85d\u2028e", "x\r", "x\r\n\r\n", "N10 G1 X1\fY2\x1c"]
+)
+def test_lines_as_program_lines(text: str) -> None:
+    lines = TextLines(text)
+    assert list(lines) == program_lines(text) and len(lines) == len(program_lines(text))
+    assert lines[:2] == program_lines(text)[:2]
+
+
+def test_random_texts() -> None:
+    r = random.Random(7)
+    for _ in range(2000):
+        text = "".join(r.choice("ab \n\r\x0b\x85\u2029") for _ in range(r.randint(0, 40)))
+        lines = TextLines(text)
+        assert list(lines) == program_lines(text)
+        if len(lines):
+            assert lines[-1] == program_lines(text)[-1]
+    with pytest.raises(IndexError):
+        TextLines("a\nb")[2]

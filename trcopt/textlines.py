@@ -1,0 +1,47 @@
+"""The lines of a program text by number without a list of them: :class:`TextLines`.
+
+A list of the lines of a million-block program is a million string objects (tens of MB); a stage
+that reads one line at a time, or looks up the source line of a block, needs only where each line
+starts: one array of offsets, each line cut from the text when it is asked for. The lines are
+those an editor numbers (:func:`trcopt.nc.text.program_lines`: split at LF, CR LF and CR only, a
+final line end starts no line), so that line ``n`` is the line of a span with ``line=n``.
+"""
+
+from __future__ import annotations
+
+import re
+from array import array
+from collections.abc import Sequence
+from typing import Any
+
+__all__ = ["TextLines"]
+
+_LINE_END = re.compile(r"\r\n|\r|\n")
+
+
+class TextLines(Sequence[str]):
+    """``program_lines(text)`` as a sequence made on demand (same length, same items)."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        starts, ends = array("q", [0]), array("q")
+        for m in _LINE_END.finditer(text):
+            ends.append(m.start())
+            starts.append(m.end())
+        if starts[-1] == len(text):  # a final line end starts no line
+            starts.pop()
+        else:
+            ends.append(len(text))
+        self._starts, self._ends = starts, ends
+
+    def __len__(self) -> int:
+        return len(self._starts)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        return self.text[self._starts[i] : self._ends[i]]
