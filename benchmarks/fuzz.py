@@ -20,7 +20,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 RUNNER = ROOT / "tests" / "fuzz" / "fuzzrun.py"
-CLASSES = ("traceback", "internal", "hang", "exit", "unlocated", "nonfinite", "partial")
+CLASSES = ("traceback", "internal", "hang", "exit", "unlocated", "nonfinite", "partial", "stream")
 
 
 def _slice(count: int, seed: int, start: int, stop: int, timeout: float, memory_gb: float) -> list[dict]:

@@ -2,7 +2,9 @@
 
 Each program (:mod:`fuzzgen`) is written to a fresh folder (with the Heidenhain ``tools.toml`` or
 LinuxCNC ``tools.tbl`` beside it) and planned by :func:`trcopt.cli.main` with ``--json``,
-``--gcode``, ``--svg`` and, with timing, ``--csv``; every fourth program runs ``--no-timing``. A
+``--gcode``, ``--svg`` and, with timing, ``--csv``; every fourth program runs ``--no-timing``, and
+every fourth other one window by window with ``--json`` and ``--gcode`` (compared with the whole
+plan). A
 program fails in one of these classes:
 
 =============  ====================================================================================
@@ -15,6 +17,9 @@ unlocated      an error diagnostic without file, line ≥ 1, column ≥ 1, or wi
 nonfinite      ``nan``/``inf`` in the summary, the JSON (``parse_constant`` rejects them), the
                G-code, the SVG or the CSV
 partial        an output that exists but is not complete and parseable, or a temporary file left
+stream         planned window by window (``--stream on``, every fourth program, ``--json`` and
+               ``--gcode`` only) it exits, prints or writes other than the whole plan
+               (``--stream off``) does (:mod:`plancompare`)
 =============  ====================================================================================
 
 Run as a script (``python tests/fuzz/fuzzrun.py --count N --seed S``) it prints one JSON line per
@@ -44,10 +49,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from fuzzgen import ROOT, RS274_TOOL_TABLE, FuzzProgram, programs  # noqa: E402
+from plancompare import disagreement  # noqa: E402
 
 __all__ = ["CLASSES", "Outcome", "run_program", "run_batch", "main"]
 
-CLASSES = ("traceback", "internal", "hang", "exit", "unlocated", "nonfinite", "partial")
+CLASSES = ("traceback", "internal", "hang", "exit", "unlocated", "nonfinite", "partial", "stream")
 _ERROR_LINE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<col>\d+): error (?P<code>\S+)(?: \((?P<block>[^)]*)\))?: ")
 _NONFINITE = re.compile(r"(?<![A-Za-z_])(?:nan|inf|infinity)(?![A-Za-z_])", re.IGNORECASE)
 _QUOTED = re.compile(r"\([^)\n]*\)|;[^\n]*|<text[^>]*>.*?</text>|<title>[^<]*</title>|<!--.*?-->", re.S)
@@ -171,11 +177,14 @@ def run_program(prog: FuzzProgram, index: int, *, timeout_s: float = 30.0, work:
         elif prog.suffix == ".ngc":
             (folder / "tools.tbl").write_text(RS274_TOOL_TABLE)
         timing = index % 4 != 3
+        streamed = index % 4 == 1
         out = folder / "out"
-        outputs = {"json": out / "plan.json", "gcode": out / "plan.nc", "svg": out / "plan.svg"}
-        if timing:
+        outputs = {"json": out / "plan.json", "gcode": out / "plan.nc"}
+        if not streamed:
+            outputs["svg"] = out / "plan.svg"
+        if timing and not streamed:
             outputs["csv"] = out / "feed.csv"
-        argv = ["plan", str(program)]
+        argv = ["plan", str(program), *(["--stream", "on"] if streamed else [])]
         for kind, path in outputs.items():
             argv += [f"--{kind}", str(path)]
         if not timing:
@@ -217,9 +226,40 @@ def run_program(prog: FuzzProgram, index: int, *, timeout_s: float = 30.0, work:
                 failure, detail = "nonfinite", f"summary: {summary[max(0, m.start() - 80):m.end() + 20]!r}"
         if not failure:
             failure, detail = _check_outputs(out, outputs) if out.exists() else ("", "")
+        if not failure and streamed:
+            failure, detail = _compare_whole(program, outputs, code, stdout.getvalue(), stderr.getvalue())
         return Outcome(prog.name, failure, detail, code, seconds)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
+
+
+def _compare_whole(program: Path, outputs: dict[str, Path], code: int | None, out: str, err: str) -> tuple[str, str]:
+    """("stream", detail) when the whole plan (``--stream off``) exits, prints or writes otherwise."""
+    from trcopt.cli import main as cli_main
+
+    whole = {kind: path.with_name("whole-" + path.name) for kind, path in outputs.items()}
+    argv = ["plan", str(program), "--stream", "off"]
+    for kind, path in whole.items():
+        argv += [f"--{kind}", str(path)]
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        whole_code = cli_main(argv)
+    if whole_code != code:
+        return "stream", f"exit {code} window by window, {whole_code} whole"
+    if (stdout.getvalue(), stderr.getvalue()) != (out, err):
+        return "stream", f"printed {out[-200:]!r} window by window, {stdout.getvalue()[-200:]!r} whole"
+    for kind, path in outputs.items():
+        if path.exists() != whole[kind].exists():
+            return "stream", f"{kind} written only {'window by window' if path.exists() else 'whole'}"
+        if not path.exists():
+            continue
+        if kind == "json":
+            differs = disagreement(json.loads(whole[kind].read_text()), json.loads(path.read_text()))
+        else:
+            differs = None if path.read_text() == whole[kind].read_text() else "the G-code text differs"
+        if differs:
+            return "stream", f"{kind}: {differs[:250]}"
+    return "", ""
 
 
 def run_batch(count: int, seed: int, *, timeout_s: float = 30.0, start: int = 0) -> list[Outcome]:

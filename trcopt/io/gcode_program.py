@@ -42,7 +42,7 @@ from trcopt.io.spill import SpilledSegments
 from trcopt.path import Segment
 from trcopt.textlines import TextLines
 
-__all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words"]
+__all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words", "carries_words"]
 
 INCH_MM = 25.4
 _END = {"M2", "M02", "M30", "M17", "RET"}
@@ -131,6 +131,12 @@ class _Group:
     @property
     def source(self) -> str:
         return " ".join(x for x in (self.block, f"L{self.line}") if x)
+
+
+def carries_words(actions: tuple[str, ...] | list[str]) -> bool:
+    """Whether the G-code writer writes something of a move's ``actions`` (its words, or a comment
+    on its path-control words): the moves a plan keeps for the writer."""
+    return bool(actions) and (bool(kept_words(actions)) or any(_PATH_CONTROL.match(a.strip()) for a in actions))
 
 
 def kept_words(actions: tuple[str, ...] | list[str]) -> list[str]:

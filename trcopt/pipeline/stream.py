@@ -228,29 +228,40 @@ def plan_streamed(
     del raw
     reader = controllers.detect(path, text) if opts.dialect == AUTO else _controller(opts.dialect, "dialect")
     profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
-    def read(lead_diags: list[Diagnostic]) -> Iterator[Move]:
-        stream = controllers.stream_program(
+    def read() -> Any:
+        return controllers.stream_program(
             text, file=path, dialect=reader.name, tolerances=settings.tolerances,
             max_disc=settings.cutcom_max_disc, tool_table=opts.tool_table, zero_offsets=opts.zero_offsets,
             tool_unit=opts.tool_unit, appr_radius=opts.appr_radius.value,
         )
-        streams.append(stream)
-        return stream if reader.leads is None else reader.leads(stream, settings, lead_diags)
+
+    def leads(moves: Iterator[Move], lead_diags: list[Diagnostic]) -> Iterator[Move]:
+        return moves if reader.leads is None else reader.leads(moves, settings, lead_diags)
+
+    def tapped(stream: Iterator[Move]) -> Iterator[Move]:
+        """The reader's moves, keeping those whose words the G-code writer writes (it reads the
+        program's moves as read, before the lead pass)."""
+        from trcopt.io.gcode_program import carries_words
+
+        for m in stream:
+            if m.actions and carries_words(m.actions):
+                run.word_moves.append(m)
+            yield m
 
     def part() -> Iterator[Segment]:
         """The programmed contour of a first reading (the verification's part, known in advance)."""
         tol = settings.tolerances.coincidence_mm
-        for m in _Moves(iter(read([])), path, tol).checked():
+        for m in _Moves(iter(leads(read(), [])), path, tol).checked():
             seg = programmed_segment(m, tol)
             if seg is not None:
                 yield seg
 
-    streams: list[Any] = []
     run = _Run(opts, settings, profile, None, samples, part)
     lead_diags: list[Diagnostic] = []
     comp_diags: list[Diagnostic] = []
-    moves = read(lead_diags)
-    stream = streams[-1]
+    stream = read()
+    tap = tapped(stream) if gcode else stream  # the lead pass reads the moves through the tap
+    moves = leads(tap, lead_diags)
     tee = _Moves(iter(moves), path, settings.tolerances.coincidence_mm)
     out = _Outputs(ArrayText(1, True), ArrayText(1, True), ArrayText(2, False)) if json else None
     run.out = out
@@ -268,6 +279,8 @@ def plan_streamed(
             for _ in tee:  # the programmed contour after an alarm, as the whole plan reads it
                 pass
             run.window(buf, tee, final=True)
+            for _ in tap:  # the blocks after a lead-pass alarm (their words; the reader's diagnostics)
+                pass
     except BaseException:
         if out is not None:
             out.close()
@@ -316,7 +329,7 @@ class _Run:
         self.profile = profile.name
         self.segments, self.length = 0, 0.0
         self.spill: Any = None  # the tool path for the G-code writer (SpilledSegments)
-        self.word_moves: list[Move] = []  # the moves that carry words (the G-code writer's)
+        self.word_moves: list[Move] = []  # the reader's moves that carry words (the G-code writer's)
 
     def window(self, buf: list[Segment], tee: _Moves, final: bool) -> list[Segment]:
         """Plan the segments of ``buf`` up to the last section end (all when ``final``); the rest."""
@@ -347,7 +360,6 @@ class _Run:
             self.out.toolpath.add(timed)
         if self.spill is not None:
             self.spill.append(buf)
-            self.word_moves += [m for m in moves if m.actions]
         self.segments += len(buf)
         self.length += segments_length(buf)
         return keep
