@@ -8,8 +8,9 @@ memory by ``/usr/bin/time``): without timing, with the acceleration-limited timi
 timing and ``--json``/``--gcode`` written. The baseline of the same run is LinuxCNC's own
 interpreter ``rs274`` on the same file where it is available (built outside the project as
 ``../shared/peer_cases/linuxcnc/BUILD_RS274.md`` describes; ``--rs274``), else the rows stand alone.
-Programs over 1 MiB (10⁵ blocks and up) are planned window by window (``--stream auto``); the
-``--stream off`` row is the whole-program plan of the same program with the same outputs.
+Programs over 4 MiB (10⁶ blocks) are planned window by window (``--stream auto``), smaller ones
+whole; the outputs rows run both ways: ``--stream on`` (window by window, bounded memory) and
+``--stream off`` (the whole program, up to ``--whole-up-to``).
 """
 
 from __future__ import annotations
@@ -71,10 +72,10 @@ def main(argv: list[str]) -> int:
             runs = [
                 ("trcopt plan --no-timing", [*py, str(prog), "--no-timing"]),
                 ("trcopt plan (timing)", [*py, str(prog)]),
-                ("trcopt plan --json --gcode", [*py, str(prog), *outputs]),
+                ("trcopt plan --json --gcode --stream on", [*py, str(prog), *outputs, "--stream", "on"]),
             ]
             if chords <= args.whole_up_to:
-                # the whole-program plan (the default for programs under 1 MiB) at the same size
+                # the whole-program plan (the default for programs under 4 MiB) at the same size
                 runs.append(("trcopt plan --json --gcode --stream off", [*py, str(prog), *outputs, "--stream", "off"]))
             for name, cmd in runs:
                 wall, peak, code = run(cmd)
