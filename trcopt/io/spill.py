@@ -8,14 +8,48 @@ held is one chunk, whatever the length of the path.
 
 from __future__ import annotations
 
+import copyreg
+import dataclasses
 import pickle
 import tempfile
 from collections.abc import Iterator, Sequence
 from typing import IO, Any, overload
 
+from trcopt.errors import SourceSpan
+from trcopt.geometry.primitives import Line
 from trcopt.path import Segment
 
 __all__ = ["SpilledSegments"]
+
+_SEGMENT = tuple(f.name for f in dataclasses.fields(Segment))
+_SPAN = tuple(f.name for f in dataclasses.fields(SourceSpan))
+
+
+def _made(cls: type, names: tuple[str, ...], values: tuple[Any, ...]) -> Any:
+    """An instance of the frozen dataclass ``cls`` with its fields set as pickled (no checks: they
+    were checked when it was first made)."""
+    obj = object.__new__(cls)
+    for name, value in zip(names, values, strict=True):
+        object.__setattr__(obj, name, value)
+    return obj
+
+
+def _segment(*values: Any) -> Segment:
+    return _made(Segment, _SEGMENT, values)  # type: ignore[no-any-return]
+
+
+def _span(*values: Any) -> SourceSpan:
+    return _made(SourceSpan, _SPAN, values)  # type: ignore[no-any-return]
+
+
+# the segments, spans and lines as tuples of their fields: the dataclasses' own pickling reads
+# their field lists for every object, twice as slow
+_DISPATCH = copyreg.dispatch_table.copy()
+_DISPATCH.update({
+    Segment: lambda s: (_segment, tuple(getattr(s, k) for k in _SEGMENT)),
+    SourceSpan: lambda s: (_span, tuple(getattr(s, k) for k in _SPAN)),
+    Line: lambda g: (Line, (g.start, g.end)),
+})  # fmt: skip
 
 
 class SpilledSegments(Sequence[Segment]):
@@ -34,7 +68,9 @@ class SpilledSegments(Sequence[Segment]):
         self._file.seek(0, 2)
         self._starts.append(self._n)
         self._offsets.append(self._file.tell())
-        pickle.dump(list(segments), self._file, protocol=pickle.HIGHEST_PROTOCOL)
+        pickler = pickle.Pickler(self._file, protocol=pickle.HIGHEST_PROTOCOL)
+        pickler.dispatch_table = _DISPATCH
+        pickler.dump(list(segments))
         self._n += len(segments)
 
     def __len__(self) -> int:
