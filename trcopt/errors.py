@@ -36,9 +36,14 @@ class Severity(enum.Enum):
     ERROR = "error"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False)
 class SourceSpan:
-    """Where something came from: file, 1-based line and column, and the block number (``N60``)."""
+    """Where something came from: file, 1-based line and column, and the block number (``N60``).
+
+    A frozen dataclass made by ``__new__`` (see :class:`_SpanSlots`): every block of a program
+    gets one, and the dataclass constructor, which sets each field through
+    ``object.__setattr__``, costs three times as much.
+    """
 
     file: str = "<program>"
     line: int = 0
@@ -52,6 +57,22 @@ class SourceSpan:
     #: time): tells the runs of one block apart
     run: int = 0
 
+    def __new__(
+        cls,
+        file: str = "<program>",
+        line: int = 0,
+        column: int = 0,
+        block: str | None = None,
+        end_column: int | None = None,
+        machine: tuple[float | None, float | None, float | None] | None = None,
+        run: int = 0,
+    ) -> SourceSpan:
+        span = _SpanSlots()
+        span.file, span.line, span.column, span.block = file, line, column, block
+        span.end_column, span.machine, span.run = end_column, machine, run
+        span.__class__ = cls  # type: ignore[assignment]
+        return span  # type: ignore[return-value]
+
     def label(self) -> str:
         """``file:line:col`` as compilers print it (just ``file`` when there is no position)."""
         if not self.line:
@@ -61,6 +82,20 @@ class SourceSpan:
     def block_label(self) -> str:
         """The block number if there is one, else ``line <n>``."""
         return self.block if self.block else f"line {self.line}"
+
+
+class _SpanSlots:
+    """The slots of :class:`SourceSpan` (the same layout) without its frozen ``__setattr__``: a
+    span is filled in as one of these, then becomes a :class:`SourceSpan`."""
+
+    __slots__ = SourceSpan.__slots__
+    file: str
+    line: int
+    column: int
+    block: str | None
+    end_column: int | None
+    machine: tuple[float | None, float | None, float | None] | None
+    run: int
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, replace
+from typing import Any
 
 from trcopt.errors import SourceSpan
 from trcopt.geometry.plane import Plane
@@ -19,7 +20,7 @@ from trcopt.units import mm_s_to_mm_min
 
 Geometry = Line | Arc | Poly
 
-__all__ = ["Role", "Segment", "Geometry", "segments_length"]
+__all__ = ["Role", "Segment", "Geometry", "new_segment", "segments_length"]
 
 
 class Role(enum.Enum):
@@ -115,6 +116,34 @@ class Segment:
         }
 
 
+class _SegmentSlots:
+    """The slots of :class:`Segment` (the same layout) without its frozen ``__setattr__``."""
+
+    __slots__ = Segment.__slots__
+
+
+def new_segment(
+    geometry: Geometry,
+    plane: Plane,
+    role: Role,
+    span: SourceSpan,
+    feed_mm_s: float | None,
+    side: Side = Side.OFF,
+    radius: float = 0.0,
+) -> Segment:
+    """``Segment(...)`` (the same arguments, an equal segment, no times) at a third of the cost,
+    for the loops that make a segment per block: the fields are set on a :class:`_SegmentSlots`,
+    which then becomes a :class:`Segment` (the dataclass constructor sets each field through
+    ``object.__setattr__``)."""
+    s: Any = _SegmentSlots()
+    s.geometry, s.plane, s.role, s.span, s.feed_mm_s = geometry, plane, role, span, feed_mm_s
+    s.side, s.radius = side, radius
+    s.t_start_s = s.t_end_s = None
+    s.stop = s.smooth_end = False
+    s.__class__ = Segment
+    return s
+
+
 def segments_length(segments: list[Segment] | tuple[Segment, ...]) -> float:
     """Total 3D path length, mm."""
-    return sum(s.geometry.length for s in segments)
+    return sum([s.geometry.length for s in segments])  # a list: quicker than a generator, the same sum

@@ -3,14 +3,16 @@ dialect, instead of reaching the later stages (a 1e12 mm line used to exhaust me
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import random
 
 import pytest
 
 from trcopt.codes import Code
-from trcopt.errors import SourceSpan
+from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
-from trcopt.nc.limits import MAX_COORDINATE_MM, MAX_FEED_MM_S, out_of_range
+from trcopt.nc.limits import MAX_COORDINATE_MM, MAX_FEED_MM_S, check_moves, out_of_range
 from trcopt.nc.model import CompState, Move, MoveKind
 from trcopt.pipeline import PlanOptions, plan
 
@@ -75,3 +77,49 @@ def test_out_of_range_names_the_number(change: dict, words: str) -> None:
     problem = out_of_range(_move(**change))
     assert problem is not None and words in problem
     assert out_of_range(_move()) is None
+
+
+def _check_moves_one_by_one(moves: list[Move], diagnostics: tuple) -> tuple:  # type: ignore[type-arg]
+    """:func:`~trcopt.nc.limits.check_moves` asking :func:`out_of_range` about every move."""
+    for i, move in enumerate(moves):
+        problem = out_of_range(move)
+        if problem is not None:
+            line = max(move.span.line, 1)
+            kept = tuple(d for d in diagnostics if d.span.line < line or not d.span.line)
+            return tuple(moves[:i]), (*kept, Diagnostic(Severity.ERROR, Code.NC_RANGE, problem, move.span))
+    return tuple(moves), tuple(diagnostics)
+
+
+def test_check_moves_finds_what_out_of_range_finds_move_by_move() -> None:
+    # chains of moves (each starting at the end before it, the same tuple or an equal one) with now
+    # and then a number out of range in any field the common test looks at
+    r = random.Random(11)
+    bad = [math.inf, -math.inf, math.nan, 2 * MAX_COORDINATE_MM, -2 * MAX_COORDINATE_MM]
+    notes = tuple(Diagnostic(Severity.INFO, Code.LCNC_MESSAGE, "note", SourceSpan("p", k, 1)) for k in range(0, 60, 7))
+    found = 0
+    for _ in range(400):
+        moves, pos = [], (0.0, 0.0, 0.0)
+        for k in range(r.randrange(1, 40)):
+            end = tuple(r.uniform(-100, 100) for _ in range(3))
+            if r.random() < 0.03:
+                end = tuple(r.choice(bad) if r.random() < 0.5 else v for v in end)
+            start = pos if r.random() < 0.8 else tuple(pos)
+            change: dict = {}  # type: ignore[type-arg]
+            x = r.random()
+            if x < 0.01:
+                change["feed_mm_s"] = r.choice([-1.0, 2 * MAX_FEED_MM_S, math.nan])
+            elif x < 0.02:
+                change["comp"] = CompState(radius=r.choice(bad))
+            elif x < 0.03:
+                change["turns"] = r.choice([-1, 10**6])
+            elif x < 0.05:
+                change.update(kind=MoveKind.ARC, center=(0.0, r.choice([0.0, *bad]), 0.0), ccw=True)
+            elif x < 0.06:
+                start = start[:2]  # a malformed point
+            m = Move(MoveKind.LINE, start, end, Plane.G17, SourceSpan("p", k + 1, 1), feed_mm_s=10.0)  # type: ignore[arg-type]
+            moves.append(dataclasses.replace(m, **change))
+            pos = end
+        expected = _check_moves_one_by_one(moves, notes)
+        assert check_moves(moves, notes) == expected
+        found += len(expected[0]) < len(moves)
+    assert 50 < found < 350

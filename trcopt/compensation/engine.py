@@ -19,6 +19,7 @@ omission warnings (10763) and the segments of a resolved block. How a block ends
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator
 
 from trcopt.codes import Code
@@ -27,11 +28,12 @@ from trcopt.compensation.junctions import JunctionResolver
 from trcopt.compensation.lookahead import Join, Pending, Window, trim_end
 from trcopt.config import TrcSettings
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
+from trcopt.geometry.plane import Plane
 from trcopt.geometry.primitives import Line
 from trcopt.geometry.vec import Vec2
 from trcopt.modes import CollisionMode, Side
 from trcopt.nc.model import Move, MoveKind
-from trcopt.path import Role, Segment
+from trcopt.path import Role, Segment, new_segment
 
 __all__ = ["compensate", "Compensator", "programmed_segment"]
 
@@ -62,9 +64,31 @@ class _Peekable:
         return next(self._it, None)
 
 
+_LINE, _RAPID, _NONE, _G17 = MoveKind.LINE, MoveKind.RAPID, MoveKind.NONE, Plane.G17
+
+
 def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
     """The uncompensated segment of a move (None for a block without motion)."""
-    if m.kind is MoveKind.NONE or (m.start == m.end and m.kind is not MoveKind.ARC):
+    kind = m.kind
+    if (kind is _LINE or kind is _RAPID) and m.plane is _G17 and not m.origin:
+        # the common straight move in G17, as _any_programmed_segment makes it
+        start, end = m.start, m.end
+        if start == end:
+            return None
+        if kind is _RAPID:
+            role = Role.RAPID
+        elif math.hypot(end[0] - start[0], end[1] - start[1]) <= tol:  # Line.plane_length
+            role = Role.POSITIONING
+        else:
+            role = Role.CONTOUR
+        return new_segment(Line(start, end), _G17, role, m.span, m.feed_mm_s)
+    return _any_programmed_segment(m, tol)
+
+
+def _any_programmed_segment(m: Move, tol: float) -> Segment | None:
+    """:func:`programmed_segment` of any move."""
+    kind = m.kind
+    if kind is _NONE or (m.start == m.end and kind is not MoveKind.ARC):
         return None
     geom = make_programmed_geometry(m)
     if m.origin == "approach":

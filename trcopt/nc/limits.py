@@ -114,9 +114,24 @@ def check_moves(
     tuple
         ``(moves, diagnostics)``, unchanged when every number is in range.
     """
+    m = MAX_COORDINATE_MM
+    checked: object = None  # the end point of the move before, found in range (where a move starts)
     for i, move in enumerate(moves):
+        p, q = move.start, move.end
+        if (  # out_of_range's test of the common move, the start skipped when it was checked as an end
+            (p is checked or len(p) == 3 and -m <= p[0] <= m and -m <= p[1] <= m and -m <= p[2] <= m)
+            and len(q) == 3 and -m <= q[0] <= m and -m <= q[1] <= m and -m <= q[2] <= m
+            and move.center is None
+            and (move.feed_mm_s is None or 0.0 <= move.feed_mm_s <= MAX_FEED_MM_S)
+            and -m <= move.comp.radius <= m
+            and 0 <= move.turns <= MAX_TURNS
+            and move.sar is None
+        ):  # fmt: skip
+            checked = q
+            continue
         problem = out_of_range(move)
         if problem is None:
+            checked = q
             continue
         span = move.span
         line = max(span.line, 1)

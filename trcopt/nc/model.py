@@ -10,6 +10,7 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from trcopt.errors import Diagnostic, SourceSpan
 from trcopt.geometry.plane import Plane
@@ -27,7 +28,7 @@ from trcopt.modes import (
     ToleranceKind,
 )
 
-__all__ = ["MoveKind", "SarSpec", "CompState", "PathControl", "EXACT_PATH", "Move", "NcProgram"]
+__all__ = ["MoveKind", "SarSpec", "CompState", "PathControl", "EXACT_PATH", "Move", "new_move", "NcProgram"]
 
 
 class MoveKind(enum.Enum):
@@ -163,6 +164,40 @@ class Move:
         iu, iv, _ = self.plane.axes
         a, b = self.start, self.end
         return math.hypot(b[iu] - a[iu], b[iv] - a[iv]) > tol
+
+
+class _MoveSlots:
+    """The slots of :class:`Move` (the same layout) without its frozen ``__setattr__``."""
+
+    __slots__ = Move.__slots__
+
+
+def new_move(
+    kind: MoveKind,
+    start: Vec3,
+    end: Vec3,
+    plane: Plane,
+    span: SourceSpan,
+    comp: CompState,
+    feed_mm_s: float | None = None,
+    center: Vec3 | None = None,
+    ccw: bool | None = None,
+    turns: int = 0,
+    actions: tuple[str, ...] = (),
+    sar: SarSpec | None = None,
+    plane_programmed: bool = True,
+    origin: str = "",
+    control: PathControl = EXACT_PATH,
+) -> Move:
+    """``Move(...)`` (the same arguments, an equal move) at a third of the cost, for a reader's
+    loop over the blocks: the fields are set on a :class:`_MoveSlots`, which then becomes a
+    :class:`Move` (the dataclass constructor sets each field through ``object.__setattr__``)."""
+    m: Any = _MoveSlots()
+    m.kind, m.start, m.end, m.plane, m.span, m.comp, m.feed_mm_s = kind, start, end, plane, span, comp, feed_mm_s
+    m.center, m.ccw, m.turns, m.actions, m.sar = center, ccw, turns, actions, sar
+    m.plane_programmed, m.origin, m.control = plane_programmed, origin, control
+    m.__class__ = Move
+    return m
 
 
 @dataclass(frozen=True, slots=True)

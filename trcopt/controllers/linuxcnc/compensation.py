@@ -70,9 +70,11 @@ from trcopt.geometry.primitives import Arc, Line
 from trcopt.geometry.vec import Vec2, Vec3
 from trcopt.modes import Side
 from trcopt.nc.model import Move, MoveKind
-from trcopt.path import Role, Segment
+from trcopt.path import Role, Segment, new_segment
 
 __all__ = ["compensate_linuxcnc"]
+
+_OFF, _G17 = Side.OFF, Plane.G17
 
 
 @dataclass(slots=True)
@@ -115,8 +117,10 @@ class _LinuxCncCompensator:
     # -- output -----------------------------------------------------------------------------
     def _segment(self, q: _Queued) -> Segment | None:
         m = q.move
-        side = Side.OFF if not q.compensated else (Side.LEFT if self.side > 0 else Side.RIGHT)
-        radius = self.r if side is not Side.OFF else 0.0
+        if q.compensated:
+            side, radius = (Side.LEFT if self.side > 0 else Side.RIGHT), self.r
+        else:
+            side, radius = _OFF, 0.0
         c = q.center
         if c is not None:
             rad = math.hypot(q.end[0] - c[0], q.end[1] - c[1])
@@ -127,23 +131,27 @@ class _LinuxCncCompensator:
                     return None
             else:
                 geom = Arc(c, rad, angle_to(c, q.start[:2]), sweep, q.start[2], q.end[2])
-            return Segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
+            return new_segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
         if math.dist(q.start, q.end) <= 1e-12:  # Line.length
             return None
         line = Line(q.start, q.end)
         role = q.role
         if m.feed_mm_s is None and role is Role.CONTOUR:
             role = Role.RAPID
-        return Segment(line, self.plane, role, m.span, m.feed_mm_s, side, radius)
+        return new_segment(line, self.plane, role, m.span, m.feed_mm_s, side, radius)
 
-    def _flush(self) -> Iterator[Segment]:
-        for q in self.queue:
+    def _flush(self, out: list[Segment]) -> None:
+        """Emit the queued moves (append their segments to ``out``)."""
+        queue = self.queue
+        if not queue:
+            return
+        for q in queue:
             seg = self._segment(q)
             if seg is not None:
-                yield seg
-        self.queue.clear()
+                out.append(seg)
+        queue.clear()
 
-    def _move_endpoint_and_flush(self, p: Vec2, span: SourceSpan) -> Iterator[Segment]:
+    def _move_endpoint_and_flush(self, p: Vec2, span: SourceSpan, out: list[Segment]) -> None:
         """Move the end of every queued move to ``p`` (an inside corner), then emit them."""
         for k, q in enumerate(self.queue):
             if q.is_arc:
@@ -161,37 +169,59 @@ class _LinuxCncCompensator:
             q.end = (p[0], p[1], q.end[2])
             if k > 0:
                 q.start = (p[0], p[1], q.start[2])
-        yield from self._flush()
+        self._flush(out)
         self.endpoint = p
 
-    def _flush_where_the_tool_is(self, span: SourceSpan) -> Iterator[Segment]:
+    def _flush_where_the_tool_is(self, span: SourceSpan, out: list[Segment]) -> None:
         """LinuxCNC's ``move_endpoint_and_flush`` to the current tool position (outside corner
         of a straight block, G40, program end): the queued moves keep their ends, but a line that
         now runs against its programmed direction (its start was moved past its end by an inside
         corner) is the gouge error."""
         if not self.queue or self.cur is None or self.r <= 0.0:
-            yield from self._flush()
+            self._flush(out)
             return
-        yield from self._move_endpoint_and_flush(self.cur[:2], span)
+        self._move_endpoint_and_flush(self.cur[:2], span, out)
 
     def _front(self) -> _Queued | None:
         return self.queue[0] if self.queue else None
 
     # -- driver -----------------------------------------------------------------------------
     def run(self, moves: Iterable[Move]) -> Iterator[Segment]:
+        out: list[Segment] = []  # the segments a block makes final, given before the next block is read
         try:
             span = None
             for m in moves:
                 span = m.span
-                yield from self._block(m)
+                self._block(m, out)
+                if out:
+                    yield from out
+                    out.clear()
             if self.on and span is not None:  # program end (M2/M30): LinuxCNC's convert_stop
-                yield from self._flush_where_the_tool_is(span)
-            yield from self._flush()
+                self._flush_where_the_tool_is(span, out)
+            self._flush(out)
         except CompensationStop as stop:
             self.queue.clear()
+            yield from out  # those final before the error
             self.diags.append(Diagnostic(Severity.ERROR, stop.code, MESSAGES[stop.code], stop.span))
+            return
+        yield from out
 
-    def _block(self, m: Move) -> Iterator[Segment]:
+    def _block(self, m: Move, out: list[Segment]) -> None:
+        """One move: the common contour move (a straight move in G17 with compensation on and
+        running, its side not programmed in the block) straight to :meth:`_straight`, which
+        is where :meth:`_any_block` takes it; every other move through :meth:`_any_block`."""
+        comp = m.comp
+        if (
+            self.on and not self.first and comp.side is not _OFF and not comp.side_programmed
+            and m.plane is _G17 and self.plane is _G17 and self.r > 0.0
+            and (m.kind is MoveKind.LINE or m.kind is MoveKind.RAPID)
+        ):  # fmt: skip
+            self.inch = comp.inch
+            self._straight(m, m.end, out)
+            return
+        self._any_block(m, out)
+
+    def _any_block(self, m: Move, out: list[Segment]) -> None:
         comp = m.comp
         self.inch = comp.inch
         want = comp.effective_side
@@ -206,7 +236,7 @@ class _LinuxCncCompensator:
             self._set_plane(m.plane)
             self.exit_pending = False
         elif want is Side.OFF and self.on:
-            yield from self._flush_where_the_tool_is(m.span)
+            self._flush_where_the_tool_is(m.span, out)
             self.on = False
             self.exit_pending = not self.first and self.r > 0.0
             self.first = False
@@ -228,18 +258,18 @@ class _LinuxCncCompensator:
         if not self.on or self.r <= 0.0:
             # a zero radius (G41.1 D0) leaves every move as programmed: LinuxCNC compensates only
             # with cutter_comp_radius > 0 (convert_straight, convert_arc)
-            yield from self._uncompensated(m, start, end)
+            self._uncompensated(m, start, end, out)
         elif self.first:
             if m.kind is not MoveKind.ARC and math.hypot(end[0] - start[0], end[1] - start[1]) == 0.0:
-                yield from self._uncompensated(m, start, end, keep_exit=True)
+                self._uncompensated(m, start, end, out, keep_exit=True)
             elif m.kind is MoveKind.ARC:
                 self._entry_arc(m, end)
             else:
                 self._entry_line(m, end)
         elif m.kind is MoveKind.ARC:
-            yield from self._arc(m, end)
+            self._arc(m, end, out)
         else:
-            yield from self._straight(m, end)
+            self._straight(m, end, out)
 
     # -- compensation off -------------------------------------------------------------------
     def _set_plane(self, plane: Plane) -> None:
@@ -253,7 +283,7 @@ class _LinuxCncCompensator:
             self.prog = plane.to_uvw(self.plane.to_xyz(self.prog))
         self.plane = plane
 
-    def _uncompensated(self, m: Move, start: Vec3, end: Vec3, keep_exit: bool = False) -> Iterator[Segment]:
+    def _uncompensated(self, m: Move, start: Vec3, end: Vec3, out: list[Segment], keep_exit: bool = False) -> None:
         assert self.cur is not None
         role = Role.RAPID if m.kind is MoveKind.RAPID else Role.CONTOUR
         if self.exit_pending and not keep_exit:
@@ -269,7 +299,7 @@ class _LinuxCncCompensator:
             q = _Queued(self.cur, end, m, role, compensated=False)
         seg = self._segment(q)
         if seg is not None:
-            yield seg
+            out.append(seg)
         self.cur = self.prog = end
 
     # -- entry ------------------------------------------------------------------------------
@@ -303,34 +333,25 @@ class _LinuxCncCompensator:
         new_center = entry_arc_center(c, e, center, m.span)
         sweep = find_turn(c, new_center, turn, e)
         self.endpoint = c
-        self.queue.append(
-            _Queued(
-                self.cur,
-                (e[0], e[1], end[2]),
-                m,
-                Role.APPROACH,
-                center=new_center,
-                turn=turn,
-                prog_sweep=sweep,
-            )
-        )
+        end_e = (e[0], e[1], end[2])
+        self.queue.append(_Queued(self.cur, end_e, m, Role.APPROACH, center=new_center, turn=turn, prog_sweep=sweep))
         self.first = False
         self.cur, self.prog = (e[0], e[1], end[2]), end
 
     # -- contour: straight ------------------------------------------------------------------
-    def _straight(self, m: Move, end: Vec3) -> Iterator[Segment]:
-        assert self.cur is not None and self.prog is not None
+    def _straight(self, m: Move, end: Vec3, out: list[Segment]) -> None:
+        cur, prog = self.cur, self.prog
+        assert cur is not None and prog is not None
         small = TOLERANCE_CONCAVE_CORNER
         r, side = self.r, self.side
-        op, c, p = self.prog[:2], self.cur[:2], end[:2]
-        cz = self.cur[2]
-        rapid = m.kind is MoveKind.RAPID
-        if p[0] == op[0] and p[1] == op[1]:  # no plane motion: the tool stays where it is
-            self.queue.append(_Queued(self.cur, (c[0], c[1], end[2]), m, Role.CONTOUR))
-            self.cur, self.prog = (c[0], c[1], end[2]), end
+        opx, opy, px, py = prog[0], prog[1], end[0], end[1]
+        cx, cy, cz = cur
+        if px == opx and py == opy:  # no plane motion: the tool stays where it is
+            self.queue.append(_Queued(cur, (cx, cy, end[2]), m, Role.CONTOUR))
+            self.cur, self.prog = (cx, cy, end[2]), end
             return
-        theta = math.atan2(c[1] - op[1], c[0] - op[0])  # angle_to(op, c)
-        alpha = math.atan2(p[1] - op[1], p[0] - op[0])  # angle_to(op, p)
+        theta = math.atan2(cy - opy, cx - opx)  # angle_to(op, c)
+        alpha = math.atan2(py - opy, px - opx)  # angle_to(op, p)
         if side > 0:
             if theta < alpha:
                 theta += TWO_PI
@@ -341,43 +362,46 @@ class _LinuxCncCompensator:
                 alpha += TWO_PI
             beta = alpha - theta - HALF_PI
             gamma = -HALF_PI
+        # point_at(p, r, alpha + gamma) is (px + cos, py + sin), point_at(op, …) (opx + cos, opy + sin)
         cos, sin = r * math.cos(alpha + gamma), r * math.sin(alpha + gamma)
-        e = (p[0] + cos, p[1] + sin)  # point_at(p, r, alpha + gamma)
-        mid = (op[0] + cos, op[1] + sin)  # point_at(op, r, alpha + gamma)
-        front = self.queue[0] if self.queue else None
+        queue = self.queue
+        front = queue[0] if queue else None
         concave = beta < -small or beta > math.pi + small
         if not concave and beta > math.pi - small and front is not None and front.center is not None:
             # "h" shape: over a round top into a line on the side the tool is on
             concave = (side < 0 and front.turn > 0) or (side > 0 and front.turn < 0)
         if not concave and beta > small:  # outside corner
-            yield from self._flush_where_the_tool_is(m.span)
-            if rapid:
-                corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER)
+            mid = (opx + cos, opy + sin)
+            self._flush_where_the_tool_is(m.span, out)
+            if m.kind is MoveKind.RAPID:
+                corner = _Queued(cur, (mid[0], mid[1], cz), m, Role.CORNER)
             else:
-                corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)
+                corner = _Queued(cur, (mid[0], mid[1], cz), m, Role.CORNER, center=(opx, opy), turn=-side)
             seg = self._segment(corner)
             if seg is not None:
-                yield seg
+                out.append(seg)
             start = (mid[0], mid[1], cz)
             self.endpoint = mid
         elif concave:
             if front is None or front.center is None:
-                mid = line_line_corner(c, theta, beta, gamma, r)
+                mid = line_line_corner((cx, cy), theta, beta, gamma, r)
             else:
                 assert front.center is not None
                 radius = math.hypot(front.end[0] - front.center[0], front.end[1] - front.center[1])
-                mid = arc_line_corner(front.center, radius, front.turn, op, p, r, side, m.span)
-            yield from self._move_endpoint_and_flush(mid, m.span)
+                mid = arc_line_corner(front.center, radius, front.turn, (opx, opy), (px, py), r, side, m.span)
+            self._move_endpoint_and_flush(mid, m.span, out)
             start = (mid[0], mid[1], cz)
         else:  # near-tangent: continue from where the tool is
-            yield from self._flush()
-            self.endpoint = c
-            start = self.cur
-        self.queue.append(_Queued(start, (e[0], e[1], end[2]), m, Role.CONTOUR, prog_dir=(p[0] - op[0], p[1] - op[1])))
-        self.cur, self.prog = (e[0], e[1], end[2]), end
+            if queue:
+                self._flush(out)
+            self.endpoint = (cx, cy)
+            start = cur
+        new = (px + cos, py + sin, end[2])
+        queue.append(_Queued(start, new, m, Role.CONTOUR, None, 0, (px - opx, py - opy)))  # center, turn, prog_dir
+        self.cur, self.prog = new, end
 
     # -- contour: arc -----------------------------------------------------------------------
-    def _arc(self, m: Move, end: Vec3) -> Iterator[Segment]:
+    def _arc(self, m: Move, end: Vec3, out: list[Segment]) -> None:
         assert self.cur is not None and self.prog is not None
         small = TOLERANCE_CONCAVE_CORNER
         r, side = self.r, self.side
@@ -414,32 +438,23 @@ class _LinuxCncCompensator:
                 mid = arc_arc_corner(
                     front.center, radius, front.turn, center, arc_radius, turn, inside, r, side, m.span
                 )
-            yield from self._move_endpoint_and_flush(mid, m.span)
+            self._move_endpoint_and_flush(mid, m.span, out)
             start = (mid[0], mid[1], cz)
         elif beta > small:  # outside corner: an arc around the programmed corner first
             mid = point_at(op, r, delta)
-            yield from self._flush()
+            self._flush(out)
             corner = _Queued(self.cur, (mid[0], mid[1], cz), m, Role.CORNER, center=op, turn=-side)
             seg = self._segment(corner)
             if seg is not None:
-                yield seg
+                out.append(seg)
             self.endpoint = mid
             start = (mid[0], mid[1], cz)
         else:
-            yield from self._flush()
+            self._flush(out)
             self.endpoint = c
             start = self.cur
-        self.queue.append(
-            _Queued(
-                start,
-                (e[0], e[1], end[2]),
-                m,
-                Role.CONTOUR,
-                center=center,
-                turn=turn,
-                prog_sweep=prog_sweep,
-            )
-        )
+        end_e = (e[0], e[1], end[2])
+        self.queue.append(_Queued(start, end_e, m, Role.CONTOUR, center=center, turn=turn, prog_sweep=prog_sweep))
         self.cur, self.prog = (e[0], e[1], end[2]), end
 
 

@@ -44,6 +44,17 @@ __all__ = ["LOOP_LIMIT", "TOTAL_JUMP_LIMIT", "CALL_LEVELS", "FlowError", "NgcFlo
 LOOP_LIMIT = 100_000  # jumps back to one loop start before the loop is taken as endless
 TOTAL_JUMP_LIMIT = 100_000  # jumps back in the whole program (a loop re-entered without end)
 _BLOCK_NUMBER = re.compile(r"[Nn]\s*(\d+)")
+_B = "[ \t\r\n\f\v]*"  # the blanks normalise() drops
+_NUM = "([+-]?(?:[0-9]+\\.?[0-9]*|\\.[0-9]+))"
+#: a plain motion line (see :class:`Step`): blanks only between words, never inside one
+PLAIN_MOTION = re.compile(
+    f"{_B}(?:[Nn]([0-9]+){_B})?(?:[Gg](0*[01](?:\\.0*)?){_B})?(?:[Xx]{_NUM}{_B})?(?:[Yy]{_NUM}{_B})?"
+    f"(?:[Zz]{_NUM}{_B})?(?:[Ff]{_NUM}{_B})?"
+).fullmatch
+_UNREAD = Block([], [])  # the block of a plain motion line until it is read
+# a plain line shorter than this holds no number a float cannot hold (10**308 has 309 digits):
+# its words are read without an error
+_PLAIN_MAX = 309
 _NO_END = "File ended with no percent sign (%) or program end (M2)"
 
 
@@ -62,12 +73,30 @@ class FlowError(Exception):
 
 @dataclass(slots=True)
 class Step:
-    """A line to execute: its words (values evaluated), where it is, and its ``N`` number."""
+    """A line to execute: its words (values evaluated), where it is, and its ``N`` number.
+
+    A *plain motion line* (:data:`PLAIN_MOTION`: an optional ``N`` number, then ``G0``/``G1``,
+    ``X``, ``Y``, ``Z`` and ``F`` with plain numbers, each at most once and in this order, at least
+    one axis; shorter than 309 characters, so that reading its words cannot fail) is not read
+    into words: ``plain`` holds the numbers of G, X, Y, Z and F as written (None for a word the
+    line does not have) and ``block`` is empty until :meth:`read_block` reads ``raw`` as any
+    other line is read."""
 
     block: Block
     file: str
     line: int
     number: int | None
+    plain: tuple[str | None, str | None, str | None, str | None, str | None] | None = None
+    raw: str = ""
+
+    def read_block(self, params: Parameters) -> Block:
+        """The words of a plain motion line, read as :meth:`NgcFlow.blocks` reads every other line
+        (its words hold no parameter or expression: ``params`` are not read)."""
+        line = normalise(self.raw)
+        _, start = block_number(line)
+        self.block = read_words(line, start, params)
+        self.plain = None
+        return self.block
 
 
 @dataclass(slots=True)
@@ -116,6 +145,14 @@ class NgcFlow:
                 self.index += 1
                 line_no = self.index
                 number = None
+                if self.skipping is None and len(raw) < _PLAIN_MAX:
+                    plain = PLAIN_MOTION(raw)
+                    if plain is not None:
+                        n, g, x, y, z, f = plain.groups()
+                        if x is not None or y is not None or z is not None:
+                            number = None if n is None else int(n)
+                            yield Step(_UNREAD, self.file, line_no, number, (g, x, y, z, f), raw)
+                            continue
                 stripped = raw.strip()
                 if not stripped or stripped.startswith(("%", "/")):
                     continue  # % delimiters; block delete (the switch taken as on)

@@ -33,6 +33,7 @@ from trcopt.controllers.linuxcnc.ngc_expr import NgcError, Parameters, normalise
 from trcopt.controllers.linuxcnc.ngc_flow import FlowError, NgcFlow, Step
 from trcopt.controllers.linuxcnc.ngc_motion import NgcState, Stop, ToolEntry
 from trcopt.controllers.linuxcnc.ngc_offsets import OffsetError, Offsets
+from trcopt.controllers.linuxcnc.ngc_plain import execute_plain
 from trcopt.controllers.linuxcnc.ngc_words import decode
 from trcopt.controllers.linuxcnc.tooltable import LinuxCncToolTable, find_tbl, load_parameters, load_tbl
 from trcopt.errors import Diagnostic, Severity, SourceSpan
@@ -172,6 +173,10 @@ class Rs274Reader:
             steps.close()
 
     def _block(self, step: Step, span: SourceSpan, st: NgcState, moves: list[Move], params: Parameters) -> bool:
+        if step.plain is not None:
+            if execute_plain(step.plain, span, st, moves.append, params):
+                return False
+            step.read_block(params)  # read and run as any other line
         words = decode(step.block.words, st)
         action = None
         if step.block.comment is not None:  # a line without a comment has no message
@@ -200,12 +205,17 @@ class Rs274Reader:
 
 
 _UNIT_WORD = re.compile(r"g0*2([01])(?![0-9.])")
+# a line without a comment in which this is not found has no G20/G21 once normalised (blanks are
+# the only characters normalise() drops from it)
+_MAYBE_UNIT_WORD = re.compile("[gG][0 \t\r\n\f\v]*2[ \t\r\n\f\v]*[01]").search
 
 
 def program_unit(text: str) -> float:
     """mm per unit of the program's first G20/G21 (mm when it has none): the machine unit of a
     tool table and parameters given in the program's unit."""
     for raw in text.splitlines():
+        if "(" not in raw and _MAYBE_UNIT_WORD(raw) is None:
+            continue
         try:
             line = normalise(raw).text
         except NgcError:
