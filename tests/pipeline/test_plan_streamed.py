@@ -105,3 +105,21 @@ def test_cli_stream_reports_an_alarm_as_the_whole_plan(tmp_path: Path, capsys: A
     (rc_on, cap_on, json_on), (rc_off, cap_off, json_off) = results
     assert rc_on == rc_off == 1 and not json_on["ok"] and cap_on.out == cap_off.out and cap_on.err == cap_off.err
     _compare(json_off, json_on)
+
+
+def test_a_plan_leaves_no_object_out_of_the_collectors_sight() -> None:
+    """``plan`` takes its moves and segments out of the cyclic collector's walks while it runs and
+    gives every object back when it returns or raises."""
+    import gc
+
+    path = ROOT / "problems" / "siemens" / "ex02_square_g450.mpf"
+    assert gc.get_freeze_count() == 0
+    plan_file(path, PlanOptions())
+    assert gc.get_freeze_count() == 0
+    from trcopt.nc.collector import kept_from_collector
+
+    with pytest.raises(RuntimeError), kept_from_collector() as freeze:
+        freeze()
+        assert gc.get_freeze_count() > 0
+        raise RuntimeError
+    assert gc.get_freeze_count() == 0

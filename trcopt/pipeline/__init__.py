@@ -7,7 +7,7 @@ Each stage is also callable on its own (:func:`trcopt.nc.read_program`,
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,7 +17,7 @@ from trcopt.compensation import programmed_segment
 from trcopt.config import DEFAULT_MACHINE, Machine, TrcSettings
 from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
 from trcopt.modes import ApprRadius, CornerObjective, ToleranceKind, ToolUnit, parse_enum
-from trcopt.nc.collector import collector_paused
+from trcopt.nc.collector import collector_paused, kept_from_collector
 from trcopt.nc.model import Move, NcProgram
 from trcopt.optimize.corners import strategies as corner_strategies
 from trcopt.path import Segment, segments_length
@@ -228,6 +228,11 @@ def plan(
 
     Never raises for a problem in the program: alarms are diagnostics and the paths stop there.
     """
+    with kept_from_collector() as freeze:
+        return _plan(source, file, options, freeze)
+
+
+def _plan(source: str, file: str, options: PlanOptions | None, freeze: Callable[[], None]) -> PlanResult:
     from trcopt import controllers
 
     opts = options or PlanOptions()
@@ -259,6 +264,7 @@ def plan(
         profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
         with stage("compensating"):
             toolpath = list(profile.compensate(moves, settings, trc_diags, front_end_ok))
+    freeze()  # the moves and segments live as long as the plan: no collection walks them
     diagnostics.extend(trc_diags)
     diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
     result = PlanResult(file, reader.dialect, nc, programmed, toolpath, diagnostics)
