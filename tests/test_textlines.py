@@ -29,3 +29,15 @@ def test_random_texts() -> None:
             assert lines[-1] == program_lines(text)[-1]
     with pytest.raises(IndexError):
         TextLines("a\nb")[2]
+
+
+def test_the_whole_array_line_ends_of_an_ascii_text(monkeypatch: pytest.MonkeyPatch) -> None:
+    import trcopt.textlines as textlines
+
+    monkeypatch.setattr(textlines, "_VECTOR_FROM", 0)
+    r = random.Random(11)
+    for _ in range(3000):
+        text = "".join(r.choice("ab \n\r") for _ in range(r.randint(0, 40)))
+        assert list(TextLines(text)) == program_lines(text), repr(text)
+    long = "".join(r.choice(["G1 X1\n", "G1 Y2\r\n", "(c)\r", "\n", " "]) for _ in range(30_000))
+    assert list(TextLines(long)) == program_lines(long)

@@ -24,10 +24,13 @@ class TextLines(Sequence[str]):
 
     def __init__(self, text: str) -> None:
         self.text = text
-        starts, ends = array("q", [0]), array("q")
-        for m in _LINE_END.finditer(text):
-            ends.append(m.start())
-            starts.append(m.end())
+        if text.isascii() and len(text) > _VECTOR_FROM:
+            starts, ends = _ascii_bounds(text)
+        else:
+            starts, ends = array("q", [0]), array("q")
+            for m in _LINE_END.finditer(text):
+                ends.append(m.start())
+                starts.append(m.end())
         if starts[-1] == len(text):  # a final line end starts no line
             starts.pop()
         else:
@@ -40,8 +43,28 @@ class TextLines(Sequence[str]):
     def __getitem__(self, i: Any) -> Any:
         if isinstance(i, slice):
             return [self[j] for j in range(*i.indices(len(self)))]
-        if i < 0:
-            i += len(self)
-        if not 0 <= i < len(self):
-            raise IndexError(i)
-        return self.text[self._starts[i] : self._ends[i]]
+        return self.text[self._starts[i] : self._ends[i]]  # an index out of range: IndexError
+
+
+_VECTOR_FROM = 1 << 16  # characters from which the line ends of an ASCII text are found with NumPy
+
+
+def _ascii_bounds(text: str) -> tuple[array[int], array[int]]:
+    """Line starts (with 0 and the start after the last end) and ends of an ASCII text, as the
+    loop over ``_LINE_END`` finds them, found as whole arrays."""
+    import numpy as np
+
+    b = np.frombuffer(text.encode("ascii"), np.uint8)
+    lf = np.flatnonzero(b == 10)
+    cr = np.flatnonzero(b == 13)
+    crlf = (lf > 0) & (b[np.maximum(lf - 1, 0)] == 13)  # an LF after a CR: one line end, at the CR
+    lone_cr = cr[(cr + 1 >= len(b)) | (b[np.minimum(cr + 1, len(b) - 1)] != 10)]
+    ends = np.concatenate((lf - crlf, lone_cr))
+    after = np.concatenate((lf + 1, lone_cr + 1))
+    order = np.argsort(ends, kind="stable")
+    ends, after = ends[order], after[order]
+    starts = array("q", [0])
+    starts.frombytes(after.astype(np.int64).tobytes())
+    out = array("q")
+    out.frombytes(ends.astype(np.int64).tobytes())
+    return starts, out

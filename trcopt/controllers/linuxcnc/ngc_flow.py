@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Generator
+from collections.abc import Generator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,6 +38,7 @@ from trcopt.controllers.linuxcnc.ngc_expr import (
 )
 from trcopt.controllers.linuxcnc.ngc_fanuc import CALL_LEVELS, Frame, m98_block, program_number
 from trcopt.nc.text import decode_program, program_lines
+from trcopt.textlines import TextLines
 
 __all__ = ["LOOP_LIMIT", "TOTAL_JUMP_LIMIT", "CALL_LEVELS", "FlowError", "NgcFlow", "Step"]
 
@@ -55,6 +56,9 @@ _UNREAD = Block([], [])  # the block of a plain motion line until it is read
 # a plain line shorter than this holds no number a float cannot hold (10**308 has 309 digits):
 # its words are read without an error
 _PLAIN_MAX = 309
+# a line that starts with an O-word (after a block delete and an N number): the program has
+# control flow or subroutines, its lines may run more than once
+_O_WORD_LINE = re.compile(r"^[ \t]*(?:/[ \t]*)?(?:[Nn][ \t]*[0-9]+[ \t]*)?[Oo]", re.M)
 _NO_END = "File ended with no percent sign (%) or program end (M2)"
 
 
@@ -113,7 +117,11 @@ class NgcFlow:
 
     def __init__(self, file: str, text: str, params: Parameters | None = None) -> None:
         self.main = file
-        self.sources: dict[str, list[str]] = {file: program_lines(text)}
+        # the main program's lines cut from its text on demand (no list of a million strings)
+        self.sources: dict[str, Sequence[str]] = {file: TextLines(text)}
+        # a line is normalised once and kept for when it runs again; only a program with O-words
+        # runs a line again (the called files' lines are always kept)
+        self._reruns = _O_WORD_LINE.search(text) is not None
         self.params = params if params is not None else Parameters()
         self.file, self.index = file, 0
         self.skipping: str | None = None
@@ -165,7 +173,8 @@ class NgcFlow:
                         early = _BLOCK_NUMBER.match(stripped)  # the number an error names
                         number = None if early is None else int(early.group(1))
                         raise
-                    self._lines[(self.file, self.index)] = (line, number, start)
+                    if self._reruns or self.file != self.main:
+                        self._lines[(self.file, self.index)] = (line, number, start)
                 else:
                     line, number, start = cached
                 if line.text.startswith("o", start):
