@@ -9,6 +9,7 @@
 * :mod:`.records` — what a strategy returns (:class:`CornerResult`, :class:`CornerRecord`);
 * :mod:`.sites` — the corners of a tool path and what constrains them (:func:`find_corner_sites`);
 * :mod:`.boundary` — the exact cut boundary and the material a path leaves (:func:`cut_deviation`);
+* :mod:`.samples` — sample points and boxes of elements and paths for that measurement;
 * :mod:`.qp` — one corner as a G2 quintic problem (SQP of convex QPs);
 * :mod:`.chain` — one G2 cubic spline across a run of small CAM corners or a curvature jump;
 * :mod:`.circular` — the largest same-ε circular blend at one corner;

@@ -7,20 +7,21 @@ over a whole path.
 
 * :func:`blendable` — a segment whose corners may be replaced (compensated plane feed motion);
 * :func:`material_sign` — on which side of a compensated segment the material lies;
-* :func:`element_samples` — points and tangents of a line or arc.
+* :func:`element_samples` — points and tangents of a line or arc (:mod:`.samples`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
 
-from trcopt.geometry import Arc, Line, Poly
-from trcopt.geometry.poly import hermite_pieces
+from trcopt.geometry import Arc, Line
 from trcopt.optimize.corners.chain_geometry import Elements
+from trcopt.optimize.corners.samples import FAN, boxes, element_samples, elements_samples, fans, meet, path_samples
 from trcopt.path import Role, Segment
 
 __all__ = [
@@ -59,34 +60,6 @@ def _normal(t: np.ndarray, sign: float) -> np.ndarray:
     return sign * np.array([-t[..., 1], t[..., 0]]).T if t.ndim > 1 else sign * np.array([-t[1], t[0]])
 
 
-def element_samples(
-    el: Line | Arc, step: float, s0: float = 0.0, s1: float | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """Points and unit tangents of ``el`` from plane arc length ``s0`` to ``s1`` (default: the
-    end) every ``step`` at most, mm."""
-    L = el.plane_length
-    s1 = L if s1 is None else min(s1, L)
-    n = max(2, int(math.ceil((s1 - s0) / step)) + 1)
-    lam = np.linspace(s0, s1, n) / L
-    if isinstance(el, Line):
-        a, b = np.array(el.start2), np.array(el.end2)
-        pts = a[None, :] + lam[:, None] * (b - a)[None, :]
-        tan = np.repeat(np.array([el.direction2()]), n, axis=0)
-        return pts, tan
-    ang = el.a0 + lam * el.sweep
-    pts = np.stack((el.center[0] + el.radius * np.cos(ang), el.center[1] + el.radius * np.sin(ang)), axis=1)
-    k = 1.0 if el.sweep > 0 else -1.0
-    tan = np.stack((-np.sin(ang) * k, np.cos(ang) * k), axis=1)
-    return pts, tan
-
-
-def _fan(n1: np.ndarray, n2: np.ndarray, count: int) -> np.ndarray:
-    a1, a2 = math.atan2(n1[1], n1[0]), math.atan2(n2[1], n2[0])
-    d = (a2 - a1 + math.pi) % (2 * math.pi) - math.pi
-    ang = a1 + np.linspace(0.0, 1.0, count) * d
-    return np.stack((np.cos(ang), np.sin(ang)), axis=1)
-
-
 def boundary_probes(
     exact: Sequence[Line | Arc],
     programmed: Sequence[Line | Arc],
@@ -99,44 +72,57 @@ def boundary_probes(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Points of the exact cut boundary (n×2, mm) and unit directions away from the material (n×2).
 
-    Candidates: envelope points of the exact centre elements every ``step`` mm, disc fans at their
-    joints, the programmed vertices with their normal fans; kept where they lie on the boundary of
-    the exact swept region (distance to the exact centre path = ``radius``; the path is ``exact``
-    and ``others``, every element that comes within ``radius`` of the candidates) and, with
-    ``near``, within ``reach`` mm of it.
+    Candidates (:func:`_candidates`) kept where they lie on the boundary of the exact swept region
+    (:func:`_on_boundary`; the path is ``exact`` and ``others``, every element that comes within
+    ``radius`` of the candidates) and, with ``near``, within ``reach`` mm of it.
     """
-    pts, dirs = [], []
-    for el in exact:
-        p, t = element_samples(el, step)
-        n = _normal(t, sign)
-        pts.append(p + radius * n)
-        dirs.append(-n)
-    for e1, e2 in zip(exact[:-1], exact[1:], strict=False):
-        if math.dist(e1.end, e2.start) > 1e-9:
-            continue
-        j = np.array(e1.point2(1.0))
-        fan = _fan(_normal(np.array(e1.end_tangent()), sign), _normal(np.array(e2.start_tangent()), sign), 33)
-        pts.append(j[None, :] + radius * fan)
-        dirs.append(-fan)
-    for e1, e2 in zip(programmed[:-1], programmed[1:], strict=False):
-        if math.dist(e1.end[:2], e2.start[:2]) > 1e-9:
-            continue
-        v = np.array(e1.point2(1.0))
-        fan = _fan(-_normal(np.array(e1.end_tangent()), sign), -_normal(np.array(e2.start_tangent()), sign), 33)
-        pts.append(np.repeat(v[None, :], len(fan), axis=0))
-        dirs.append(fan)
-    P, D = np.vstack(pts), np.vstack(dirs)
+    P, D = _candidates(exact, programmed, radius, sign, step)
     if near is not None:
         keep = np.hypot(*(P - near[None, :]).T) <= reach
         P, D = P[keep], D[keep]
-    # the distance to the exact path: only elements within R (+ the tolerance) of a candidate matter
-    tol = 1e-7 * max(radius, 1.0)
-    path = Elements([*exact, *(others or ())])
-    m, e = path.near(P, radius + tol)
-    dmin = np.full(len(P), np.inf)
-    np.minimum.at(dmin, m, path.distances(e, P[m]))
-    keep = np.abs(dmin - radius) <= tol
+    keep = _on_boundary(Elements([*exact, *(others or ())]), P, radius)
     return P[keep], D[keep]
+
+
+def _candidates(
+    exact: Sequence[Line | Arc], programmed: Sequence[Line | Arc], radius: float, sign: float, step: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate points of the exact cut boundary and their directions away from the material: the
+    envelope points of the exact centre elements every ``step`` mm, disc fans at their joints, the
+    programmed vertices with their normal fans."""
+    pts, dirs = [np.zeros((0, 2))], [np.zeros((0, 2))]
+    if exact:
+        p, t = elements_samples(exact, step)
+        n = _normal(t, sign)
+        pts.append(p + radius * n)
+        dirs.append(-n)
+    ends = [(e1, e2) for e1, e2 in zip(exact[:-1], exact[1:], strict=False) if math.dist(e1.end, e2.start) <= 1e-9]
+    if ends:
+        fan = fans([(_normal(np.array(e1.end_tangent()), sign), _normal(np.array(e2.start_tangent()), sign))
+                    for e1, e2 in ends])  # fmt: skip
+        pts.append(np.repeat(np.array([e1.point2(1.0) for e1, _ in ends]), FAN, axis=0) + radius * fan)
+        dirs.append(-fan)
+    ends = [
+        (e1, e2) for e1, e2 in zip(programmed[:-1], programmed[1:], strict=False)
+        if math.dist(e1.end[:2], e2.start[:2]) <= 1e-9
+    ]  # fmt: skip
+    if ends:
+        fan = fans([(-_normal(np.array(e1.end_tangent()), sign), -_normal(np.array(e2.start_tangent()), sign))
+                    for e1, e2 in ends])  # fmt: skip
+        pts.append(np.repeat(np.array([e1.point2(1.0) for e1, _ in ends]), FAN, axis=0))
+        dirs.append(fan)
+    return np.vstack(pts), np.vstack(dirs)
+
+
+def _on_boundary(path: Elements, P: np.ndarray, radius: float) -> np.ndarray:
+    """Which of the points ``P`` lie on the boundary of the region swept by discs of ``radius``
+    along ``path``: their distance to it is ``radius`` (to a relative 1e-7); only elements within
+    that distance of a point matter."""
+    tol = 1e-7 * max(radius, 1.0)
+    m, _, d = path.near_distances(P, radius + tol, ordered=False)
+    dmin = np.full(len(P), np.inf)
+    np.minimum.at(dmin, m, d)
+    return np.abs(dmin - radius) <= tol
 
 
 def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, radius: float) -> np.ndarray:
@@ -149,8 +135,15 @@ def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, rad
     same for every probe) or n×m×2 (its own centres per probe).
     """
     rel = (centres if centres.ndim == 3 else centres[None, :, :]) - probes[:, None, :]  # n×m×2
+    return _left_along(rel, dirs, radius)[0]
+
+
+def _left_along(rel: np.ndarray, dirs: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`material_left` from the centres relative to the probes (n×m×2), and the squared
+    distances of the centres from the probes (n×m)."""
     along = np.einsum("nmk,nk->nm", rel, dirs)
-    perp2 = np.einsum("nmk,nmk->nm", rel, rel) - along * along
+    dist2 = np.einsum("nmk,nmk->nm", rel, rel)
+    perp2 = dist2 - along * along
     inside = perp2 <= radius * radius
     root = np.sqrt(np.maximum(radius * radius - perp2, 0.0))
     entry = np.where(inside, along - root, np.inf)
@@ -159,77 +152,11 @@ def material_left(probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, rad
     covered = np.any((entry <= 0.0) & (exit_ >= 0.0), axis=1)
     ahead = np.where(entry > 0.0, entry, np.inf).min(axis=1)
     out = np.where(covered, 0.0, ahead)
-    return np.minimum(out, 10.0 * radius + 1.0)
-
-
-def _path_samples(segments: Sequence[Segment], step: float) -> np.ndarray:
-    """Points of ``segments`` every ``step`` mm at most (in no particular order), n×2."""
-    pts = []
-    curves: dict[bool, list[Poly]] = {True: [], False: []}
-    for s in segments:
-        g = s.geometry
-        if isinstance(g, Line | Arc):
-            if g.plane_length > 0:
-                pts.append(element_samples(g, step)[0])
-            else:
-                pts.append(np.array([g.point2(0.0)]))
-        else:
-            curves[g.curvatures is not None].append(g)
-    pts += [_curve_samples(group, step) for group in curves.values() if group]
-    return np.vstack(pts) if pts else np.zeros((0, 2))
-
-
-def _curve_samples(curves: Sequence[Poly], step: float) -> np.ndarray:
-    """Points of Poly curves (all with or all without curvatures) every ``step`` mm at most, n×2:
-    their samples in one set of arrays, evaluated in one pass."""
-    parts = [g.arrays() for g in curves]
-    lengths = np.array([p[0][-1] for p in parts])
-    sizes = np.array([len(p[0]) for p in parts])
-    offset = np.concatenate(([0.0], np.cumsum(lengths)))[:-1]
-    first = np.concatenate(([0], np.cumsum(sizes)))[:-1]
-    cum = np.concatenate([p[0] for p in parts]) + np.repeat(offset, sizes)
-    K = None if parts[0][3] is None else np.concatenate([p[3] for p in parts])
-    arrays = (cum, np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts]), K)
-    counts = np.maximum(2, np.ceil(lengths / step).astype(int) + 1)
-    member = np.repeat(np.arange(len(curves)), counts)
-    j = np.arange(int(counts.sum())) - np.repeat(np.concatenate(([0], np.cumsum(counts)[:-1])), counts)
-    s = offset[member] + lengths[member] * (j / (counts - 1)[member])
-    i = np.searchsorted(cum, s, side="right") - 1
-    i = np.clip(i, first[member], (first + sizes - 2)[member])
-    return hermite_pieces(arrays, i, s, 0)[:, :2]
-
-
-def _boxes(geoms: Sequence[Line | Arc | object]) -> np.ndarray:
-    """Plane bounding boxes (n×4: xmin, ymin, xmax, ymax) of lines, arcs and curves, mm."""
-    out = np.empty((len(geoms), 4))
-    for i, g in enumerate(geoms):
-        if isinstance(g, Arc):
-            lo, hi = _arc_box(g)
-        elif isinstance(g, Line):
-            lo = (min(g.start[0], g.end[0]), min(g.start[1], g.end[1]))
-            hi = (max(g.start[0], g.end[0]), max(g.start[1], g.end[1]))
-        else:
-            pts = np.array([p[:2] for p in g.sample_points()])  # type: ignore[attr-defined]
-            lo, hi = pts.min(axis=0), pts.max(axis=0)
-        out[i] = (lo[0], lo[1], hi[0], hi[1])
-    return out
-
-
-def _arc_box(a: Arc) -> tuple[tuple[float, float], tuple[float, float]]:
-    # the circle's box: a superset of the arc's, enough for a proximity filter
-    cx, cy, r = a.center[0], a.center[1], a.radius
-    return (cx - r, cy - r), (cx + r, cy + r)
-
-
-def _meet(boxes: np.ndarray, box: np.ndarray, pad: float) -> np.ndarray:
-    """Indices of ``boxes`` that meet ``box`` grown by ``pad`` mm."""
-    return np.nonzero(
-        (boxes[:, 0] <= box[2] + pad) & (boxes[:, 2] >= box[0] - pad)
-        & (boxes[:, 1] <= box[3] + pad) & (boxes[:, 3] >= box[1] - pad)
-    )[0]
+    return np.minimum(out, 10.0 * radius + 1.0), dist2
 
 
 EARLY_PROBES = 16  # probes measured exactly before the finer bounds of the others
+WINDOW = 1  # centre samples on either side of the nearest one in the first bound of a probe
 CHUNK_ELEMENTS = 48  # exact elements measured together (bounds the probes and centres held at once)
 
 
@@ -273,41 +200,101 @@ def cut_deviation(
     # blendable() admits lines and arcs only: the filter drops nothing, it states the type
     elements = [s.geometry for s in comp if isinstance(s.geometry, Line | Arc)]
     centres_of = [s for s in new if not s.is_rapid and s.radius > 0]
-    ebox, cbox = _boxes(elements), _boxes(contour)
-    nbox = _boxes([s.geometry for s in centres_of])
+    ebox, cbox = boxes(elements), boxes(contour)
+    nbox = boxes([s.geometry for s in centres_of])
     best, where = 0.0, None
+    arrays: dict[int, Any] = {}  # the curves' sample arrays, shared by the chunks
     runs = np.split(np.array(touched), np.nonzero(np.diff(touched) > 1)[0] + 1)
     for run in runs:
         for lo in range(0, len(run), CHUNK_ELEMENTS):
             part = run[lo : lo + CHUNK_ELEMENTS]
             a, b = max(int(part[0]) - 1, 0), min(int(part[-1]) + 2, len(elements))  # with the joints
             box = np.concatenate((ebox[a:b, :2].min(axis=0), ebox[a:b, 2:].max(axis=0)))
-            near = [i for i in _meet(ebox, box, 2.0 * R + 1e-6) if not a <= i < b]
-            probes, dirs = boundary_probes(
-                elements[a:b], [contour[i] for i in _meet(cbox, box, R + 1e-6)], R, sign, step,
-                others=[elements[i] for i in near],
-            )
-            if not len(probes):
+            near = [elements[i] for i in meet(ebox, box, 2.0 * R + 1e-6) if not a <= i < b]
+            cand, dirs = _candidates(elements[a:b], [contour[i] for i in meet(cbox, box, R + 1e-6)], R, sign, step)
+            if not len(cand):
                 continue
-            centres = _path_samples([centres_of[i] for i in _meet(nbox, box, 2.0 * R + 1.0 + step)], step)
-            val, at = _left_over(probes, dirs, centres, R, step, best)
+            path = Elements([*elements[a:b], *near])
+            centres = path_samples([centres_of[i] for i in meet(nbox, box, 2.0 * R + 1.0 + step)], step, arrays)
+            # the probes are the candidates on the boundary (boundary_probes), tested only where
+            # they might hold the largest value
+            val, at = _left_over(cand, dirs, centres, R, step, best, partial(_on_boundary, path, radius=R))
             if val > best:
                 best, where = val, at
     return best, (where if locate else None)
 
 
 def _left_over(
-    probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, R: float, step: float, best: float
+    cand: np.ndarray,
+    dirs: np.ndarray,
+    centres: np.ndarray,
+    R: float,
+    step: float,
+    best: float,
+    probe: Callable[[np.ndarray], np.ndarray],
 ) -> tuple[float, np.ndarray | None]:
-    """The largest material left at ``probes`` by discs around ``centres`` if it exceeds ``best``."""
+    """The largest material left by discs around ``centres`` at the candidates ``cand`` that are
+    probes (``probe``: which of some candidate points are), if it exceeds ``best``.
+
+    A probe's value can only be the largest if an upper bound of it exceeds the largest exact
+    value found: every candidate is first bounded by the few discs around the centre sample nearest
+    its ideal centre (the candidate moved by R along its direction, a point next to the new path,
+    so the search is short, :func:`_window_bound`); the probes among the candidates of the largest
+    such bounds are measured exactly, which prunes nearly all others before the probes among the
+    rest go to :func:`_left_over_bounded`.
+    """
     from scipy.spatial import cKDTree
 
     if not len(centres):
-        return 1.0, probes[0]
-    where = None
+        first = np.nonzero(probe(cand))[0][:1]
+        return (1.0, cand[first[0]]) if len(first) else (best, None)
     # centres are dense samples along a path: an unbalanced tree of larger leaves answers the
     # nearest-neighbour queries of probes a radius away 2–3× faster than the default one
     tree = cKDTree(centres, leafsize=32, balanced_tree=False, compact_nodes=False)
+    screen = _window_bound(tree, cand, dirs, centres, R)
+    where = None
+    done = np.zeros(len(cand), bool)
+    top = np.argsort(-screen)[: 4 * EARLY_PROBES]
+    is_probe = probe(cand[top])
+    d0 = np.asarray(tree.query(cand[top], k=1)[0]).reshape(len(top))
+    evaluated = 0
+    for j, ok, d in zip(top.tolist(), is_probe.tolist(), d0.tolist(), strict=True):
+        if screen[j] <= best or evaluated >= EARLY_PROBES:
+            break
+        done[j] = True
+        if not ok or d <= R + step * step / (4.0 * R) + 1e-9:
+            continue  # not on the boundary, or swept (see _left_over_bounded)
+        evaluated += 1
+        val = _exact_left(tree, cand, dirs, centres, R, j)
+        if val > best:
+            best, where = val, cand[j]
+    # (a bound within rounding of the largest value stays: it might tie)
+    rest = np.nonzero((screen > best - 1e-12) & ~done)[0]
+    rest = rest[probe(cand[rest])]
+    if not len(rest):
+        return best, where
+    val, at = _left_over_bounded(tree, cand[rest], dirs[rest], centres, R, step, best)
+    return (val, at) if at is not None else (best, where)
+
+
+def _window_bound(tree: Any, probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, R: float) -> np.ndarray:
+    """An upper bound of the material left at each probe (mm; ``inf`` where none is known): what
+    the discs of the WINDOW centre samples on either side of the one nearest the probe's ideal
+    centre (``probe + R·dir``) leave. Fewer discs leave at least as much, and only discs within
+    R + 1 mm of a probe count in its exact value (:func:`_exact_left`): a window reaching farther
+    gives no bound."""
+    _, j = tree.query(probes + R * dirs, k=1)
+    idx = np.clip(np.asarray(j).reshape(len(probes), 1) + np.arange(-WINDOW, WINDOW + 1), 0, len(centres) - 1)
+    bound, dist2 = _left_along(centres[idx] - probes[:, None, :], dirs, R)
+    return np.where((dist2 > (R + 1.0 - 1e-9) ** 2).any(axis=1), np.inf, bound)
+
+
+def _left_over_bounded(
+    tree: Any, probes: np.ndarray, dirs: np.ndarray, centres: np.ndarray, R: float, step: float, best: float
+) -> tuple[float, np.ndarray | None]:
+    """The largest material left at ``probes`` by discs around ``centres`` (in ``tree``) if it
+    exceeds ``best``, through bounds of increasing cost."""
+    where = None
     k0 = min(4, len(centres))
     d0, i0 = tree.query(probes, k=k0)
     d0, i0 = np.asarray(d0).reshape(len(probes), k0), np.asarray(i0).reshape(len(probes), k0)
@@ -321,7 +308,7 @@ def _left_over(
     # order of the bound, until no bound exceeds the largest exact value found
     floor = max(best, float((d0[open_, 0] - R).max()))
     rough = material_left(probes[open_], dirs[open_], centres[i0[open_]], R)
-    keep = rough > floor
+    keep = rough >= floor  # (the probe of the floor itself may have its bound equal to it)
     open_, rough = open_[keep], rough[keep]
     # the exact value at the few probes of the largest bounds first: a good lower bound of the
     # maximum prunes most of the others before their finer bounds are computed

@@ -429,13 +429,17 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     dense = np.linspace(0.0, S, max(2001, int(S / 0.01)))
     P = np.stack((cx(dense), cy(dense)), axis=1)
     tree = cKDTree(P)
-    m, e = prog.near(P, R + 1.0, tree)
-    clear = float(prog.distances(e, P[m]).min()) if len(m) else math.inf
+    # the clearance: the least distance within R + 1 mm, found among the closer pairs when there are
+    # any (the spline runs within ε of the exact path, at R from the part)
+    _, _, d = prog.near_distances(P, R + near_exact, tree, ordered=False)
+    if not len(d):
+        _, _, d = prog.near_distances(P, R + 1.0, tree, ordered=False)
+    clear = float(d.min()) if len(d) else math.inf
     # the exact path's own clearance along the run (below R only at near-tangent joints)
     dense_idx = np.clip(np.searchsorted(cum, dense, side="right") - 1, 0, ref.n - 1)
     Q = ref.points(dense_idx, np.clip((dense - cum[dense_idx]) / ref.length[dense_idx], 0.0, 1.0))
-    m, e = prog.near(Q, R, cKDTree(Q))
-    need = min(R, float(prog.distances(e, Q[m]).min()) if len(m) else R) - 1e-9
+    _, _, d = prog.near_distances(Q, R, cKDTree(Q), ordered=False)
+    need = min(R, float(d.min()) if len(d) else R) - 1e-9
     m, e = nearest(exact, P, near_exact + eps, tree)
     feet, mv, _ = free_directions(exact, e, P[m], site.material_sign, two_sided)
     along = np.sum((P[m] - feet) * mv, axis=1)

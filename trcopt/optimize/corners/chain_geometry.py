@@ -98,19 +98,29 @@ class Elements:
     def near(self, pts: np.ndarray, within: float, tree: object | None = None) -> tuple[np.ndarray, np.ndarray]:
         """All (point index, element index) pairs at most ``within`` apart, as two arrays
         (candidates from a k-d tree of the points, then measured exactly)."""
+        m, e, _ = self.near_distances(pts, within, tree)
+        return m, e
+
+    def near_distances(
+        self, pts: np.ndarray, within: float, tree: object | None = None, ordered: bool = True
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`near` and the distances of its pairs (those of :meth:`distances`); the pairs by
+        element and, with ``ordered``, by point (else the points of an element in any order)."""
         from scipy.spatial import cKDTree
 
+        none = np.zeros(0, int)
         if self.n == 0 or len(pts) == 0:
-            return np.zeros(0, int), np.zeros(0, int)
+            return none, none, np.zeros(0)
         kd = tree if tree is not None else cKDTree(pts)
-        lists = kd.query_ball_point(self.mid, self.reach + within)  # type: ignore[attr-defined]
+        lists = kd.query_ball_point(self.mid, self.reach + within, return_sorted=ordered)  # type: ignore[attr-defined]
         counts = np.fromiter(map(len, lists), int, self.n)
         if not counts.sum():
-            return np.zeros(0, int), np.zeros(0, int)
+            return none, none, np.zeros(0)
         m = np.fromiter(chain.from_iterable(lists), int, int(counts.sum()))
         e = np.repeat(np.arange(self.n), counts)
-        ok = self.distances(e, pts[m]) <= within
-        return m[ok], e[ok]
+        d = self.distances(e, pts[m])
+        ok = d <= within
+        return m[ok], e[ok], d[ok]
 
     def distances(self, idx: np.ndarray, pts: np.ndarray) -> np.ndarray:
         """Distances from the points ``pts`` to the elements ``idx`` (pairwise, k each): the
@@ -146,10 +156,9 @@ class Elements:
 def nearest(E: Elements, pts: np.ndarray, within: float, tree: object) -> tuple[np.ndarray, np.ndarray]:
     """For every point with an element of ``E`` within ``within``: the point's index and the nearest
     element's index."""
-    m, e = E.near(pts, within, tree)
+    m, e, d = E.near_distances(pts, within, tree, ordered=False)  # (sorted below)
     if not len(m):
         return m, e
-    d = E.distances(e, pts[m])
     order = np.lexsort((d, m))
     m, e = m[order], e[order]
     first = np.ones(len(m), bool)

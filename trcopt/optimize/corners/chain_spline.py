@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+from itertools import accumulate
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -137,20 +138,16 @@ def pieces(pp: tuple[np.ndarray, np.ndarray, np.ndarray], cuts: np.ndarray, w: f
     g = _ev(pp, (mid[:, None] + half[:, None] * _GL5_X[None, :]).ravel(), 1)
     seg_len = half * (np.hypot(g[:, 0], g[:, 1]).reshape(len(mid), 5) @ _GL5_W)
     starts = np.concatenate(([0], ends[:-1] + 1))
-    pts = np.hstack((P, np.full((len(s), 1), w))).tolist()
-    tans = np.hstack((tan, np.zeros((len(s), 1)))).tolist()
-    curvs = np.hstack((curv, np.zeros((len(s), 1)))).tolist()
+    pts = list(map(tuple, np.hstack((P, np.full((len(s), 1), w))).tolist()))
+    tans = list(map(tuple, np.hstack((tan, np.zeros((len(s), 1)))).tolist()))
+    curvs = list(map(tuple, np.hstack((curv, np.zeros((len(s), 1)))).tolist()))
+    lengths = seg_len.tolist()
     out = []
     for i0, i1 in zip(starts.tolist(), ends.tolist(), strict=True):
-        cum = np.concatenate(([0.0], np.cumsum(seg_len[i0:i1])))
+        # (the running sum is np.cumsum's: sequential additions)
+        cum = tuple(accumulate(lengths[i0:i1], initial=0.0))
         out.append(
-            Poly(
-                tuple(map(tuple, pts[i0 : i1 + 1])),
-                tuple(map(tuple, tans[i0 : i1 + 1])),
-                tuple(cum.tolist()),
-                "chain-spline",
-                tuple(map(tuple, curvs[i0 : i1 + 1])),
-            )
+            Poly(tuple(pts[i0 : i1 + 1]), tuple(tans[i0 : i1 + 1]), cum, "chain-spline", tuple(curvs[i0 : i1 + 1]))
         )
     return out
 

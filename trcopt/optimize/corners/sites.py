@@ -15,12 +15,14 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cached_property, partial
+from typing import NamedTuple
 
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Plane
 from trcopt.optimize.corners.boundary import blendable, boundary_probes, material_left, material_sign
 from trcopt.optimize.corners.chain import KNOT_MIN_JUMP_PER_MM
+from trcopt.optimize.corners.chain_geometry import Elements
 from trcopt.optimize.corners.curves import Element, frame_back, frame_forward, joint_turn, signed_curvature
 from trcopt.path import Role, Segment
 from trcopt.verify.contour import part_contour
@@ -38,6 +40,7 @@ __all__ = [
 
 MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
 TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
+
 
 @dataclass(frozen=True)
 class CornerSite:
@@ -208,6 +211,18 @@ def curvature_jump_joints(toolpath: Sequence[Segment], taken: set[int]) -> list[
     return out
 
 
+class _Pending(NamedTuple):
+    """A corner site before the programmed elements near it are known."""
+
+    k: int
+    plane: Plane
+    joint: np.ndarray  # J
+    within: float  # the programmed elements within this distance of J (mm) constrain the site
+    head: tuple[Element, Element, float, float, float, float]  # CornerSite's fields before them
+    probes: tuple[list[Line | Arc], float, float]  # exact elements, probe step, reach from J
+    tail: tuple[float, tuple[Element, ...], float]  # CornerSite's fields after the probe source
+
+
 def find_corner_sites(
     toolpath: Sequence[Segment],
     programmed: Sequence[Segment],
@@ -230,7 +245,7 @@ def find_corner_sites(
         if isinstance(p.geometry, Line | Arc) and not p.is_rapid
     ]
     grids = _PlaneGrids(contour)
-    sites = []
+    pending = []
     for k in sorted(joints + circles):
         circle = k in circles and k not in at
         first, last = k, (k + 2 if circle else k + 1)
@@ -262,9 +277,6 @@ def find_corner_sites(
         sign = material_sign(seg0)
         J = np.array(a.point2(1.0))
         reach = max(avail_a, avail_b) + 3.0 * R
-        candidates = grids.near(seg0.plane, (J[0], J[1], J[0], J[1]), reach + R)
-        jp = (float(J[0]), float(J[1]))
-        prog = tuple(g for g in candidates if point_distance(g, jp) <= reach + R)  # type: ignore[arg-type]
         # exact neighbourhood: previous, the replaced elements, next (when joined)
         ex: list[Line | Arc] = []
         prev = toolpath[first - 1] if first >= 1 else None
@@ -286,11 +298,26 @@ def find_corner_sites(
             span = min(span, 4.0 * t_arc + 2.0 * R)
         if circle:
             span = min(span, min_cut + near)
-        probes = partial(boundary_probes, ex, list(prog), R, sign, step, near=J, reach=span + 1.05 * R)
         replaced = {id(toolpath[i].geometry) for i in range(first, last + 1)}
         context = tuple(e for e in ex if id(e) not in replaced)
-        site = CornerSite(a, b, R, sign, avail_a, avail_b, prog, probes, ga.end[2], context, min_cut)
-        sites.append((k, site))
+        head = (a, b, R, sign, avail_a, avail_b)
+        pending.append(
+            _Pending(k, seg0.plane, J, reach + R, head, (ex, step, span + 1.05 * R), (ga.end[2], context, min_cut))
+        )
+    # the programmed elements within reach + R of each corner point, for all corners at once
+    progs: dict[int, tuple[Element, ...]] = {}
+    for plane in {x.plane for x in pending}:
+        mine = [x for x in pending if x.plane == plane]
+        found = grids.within(
+            plane, np.array([x.joint for x in mine]).reshape(-1, 2), np.array([x.within for x in mine])
+        )
+        progs.update((x.k, f) for x, f in zip(mine, found, strict=True))
+    sites = []
+    for x in pending:
+        prog = progs[x.k]
+        (ex, step, reach), (_, _, R, sign, _, _) = x.probes, x.head
+        probes = partial(boundary_probes, ex, list(prog), R, sign, step, near=x.joint, reach=reach)
+        sites.append((x.k, CornerSite(*x.head, prog, probes, *x.tail)))
     return sites
 
 
@@ -299,17 +326,29 @@ class _PlaneGrids:
     elements within a distance of a point in contour order, without a pass over the whole contour."""
 
     def __init__(self, contour: Sequence[tuple[Plane, Element]]) -> None:
-        self._by_plane: dict[Plane, tuple[list[Element], BoxGrid]] = {}
+        self._by_plane: dict[Plane, tuple[list[Element], BoxGrid, Elements]] = {}
         for plane in {p for p, _ in contour}:
             els = [g for p, g in contour if p == plane]
-            self._by_plane[plane] = (els, BoxGrid(np.array([bbox(g) for g in els], float)))
+            self._by_plane[plane] = (els, BoxGrid(np.array([bbox(g) for g in els], float)), Elements(els))  # type: ignore[arg-type]
 
-    def near(self, plane: Plane, box: tuple[float, float, float, float], margin: float) -> list[Element]:
-        """The elements of ``plane`` whose boxes come within ``margin`` (mm) of ``box``, in contour order."""
-        if plane not in self._by_plane:
-            return []
-        els, grid = self._by_plane[plane]
-        return [els[int(i)] for i in grid.near(box, margin)]
+    def within(self, plane: Plane, points: np.ndarray, radii: np.ndarray) -> list[tuple[Element, ...]]:
+        """For every point (m×2, mm) the elements of ``plane`` at most its radius away
+        (:func:`~trcopt.verify.model.point_distance`), in contour order: candidates by their boxes,
+        distances of all pairs at once, and the scalar distance where the two come within rounding
+        of the radius."""
+        out: list[list[Element]] = [[] for _ in range(len(points))]
+        if plane not in self._by_plane or not len(points):
+            return [()] * len(points)
+        els, grid, arrays = self._by_plane[plane]
+        q, i = grid.near_many(np.column_stack((points, points)), radii)
+        d = arrays.distances(i, points[q])
+        r = radii[q]
+        keep = d <= r
+        for j in np.nonzero(np.abs(d - r) <= 1e-9 * (1.0 + r))[0].tolist():
+            keep[j] = point_distance(els[i[j]], (float(points[q[j], 0]), float(points[q[j], 1]))) <= r[j]  # type: ignore[arg-type]
+        for qq, ii in zip(q[keep].tolist(), i[keep].tolist(), strict=True):
+            out[qq].append(els[ii])
+        return [tuple(x) for x in out]
 
 
 def _line_intersection(a: Line, b: Line) -> tuple[float, float] | None:

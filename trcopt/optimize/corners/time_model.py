@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from itertools import chain
 
 import numpy as np
 
@@ -83,19 +84,16 @@ def estimate_time(segments: Sequence[Segment], machine: Machine) -> float:
     if machine.path.amax_mm_s2 is not None:
         acc = min(acc, machine.path.amax_mm_s2)
     vmax = np.array([machine.axis(k).vmax_mm_s for k in "XYZ"])
-    lengths, caps, node_caps = [], [], [np.zeros(1)]
-    for i, seg in enumerate(segs):
-        ds, kappa = _intervals(seg.geometry)
-        v = min(float(feeds[i]), _axis_speed(seg, vmax))
-        cap = np.minimum(v * v, acc / np.maximum(np.maximum(kappa[:-1], kappa[1:]), 1e-300))
-        lengths.append(ds)
-        caps.append(cap)
-        inner = np.minimum(cap[:-1], cap[1:])  # the nodes inside the segment
-        node_caps.append(inner)
-        node_caps.append(np.zeros(1) if i in ends else cap[-1:])
-    L = np.concatenate(lengths)
-    C = np.concatenate(caps)
-    N = np.concatenate(node_caps)
+    L, k_ends, first = _intervals(segs)
+    v = np.minimum(np.asarray(feeds, dtype=float), _axis_speeds(segs, vmax))
+    C = np.minimum(np.repeat(v * v, np.diff(first)), acc / np.maximum(np.maximum(k_ends[0], k_ends[1]), 1e-300))
+    # node caps: zero at the start, inside a segment the smaller cap of its two intervals, at a
+    # segment's end zero at a stop of the timing stage, else its last interval's cap
+    N = np.empty(len(C) + 1)
+    N[0] = 0.0
+    N[1:-1] = np.minimum(C[:-1], C[1:])
+    last = first[1:] - 1
+    N[last + 1] = np.where(np.isin(np.arange(len(segs)), list(ends)), 0.0, C[last])
     # a node between two segments is also capped by the next segment's first interval
     N[1:-1] = np.minimum(N[1:-1], C[1:])
     S = np.concatenate(([0.0], np.cumsum(L)))
@@ -107,32 +105,69 @@ def estimate_time(segments: Sequence[Segment], machine: Machine) -> float:
     return float(np.sum(_interval_times(b[:-1], b[1:], L, C, acc)))
 
 
-def _intervals(g: Line | Arc | Poly) -> tuple[np.ndarray, np.ndarray]:
-    """Interval lengths (mm) and the curvature at the interval ends (1/mm) of one element."""
-    if isinstance(g, Line):
-        return np.array([g.length]), np.zeros(2)
-    if isinstance(g, Arc):
-        # a helix: the curvature of the plane circle times (plane length / length)²
-        k = (g.plane_length / g.length) ** 2 / g.radius if g.length > 0 else 0.0
-        return np.array([g.length]), np.full(2, k)
-    cum = np.asarray(g.cum, dtype=float)
+def _intervals(segs: Sequence[Segment]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The intervals of the path: their lengths (mm), the curvature at their two ends (2×m,
+    1/mm) and the index of every segment's first interval (one more at the end): a line or an arc
+    is one interval, a ``Poly`` one per sample interval. The curves' samples are gathered into one
+    set of arrays (their curvatures as recorded, else from the interpolation)."""
+    count = np.ones(len(segs), dtype=np.int64)
+    single: list[tuple[int, float, float]] = []  # lines and arcs: segment, length, curvature
+    curves: list[tuple[int, Poly]] = []
+    for i, seg in enumerate(segs):
+        g = seg.geometry
+        if isinstance(g, Line):
+            single.append((i, g.length, 0.0))
+        elif isinstance(g, Arc):
+            # a helix: the curvature of the plane circle times (plane length / length)²
+            single.append((i, g.length, (g.plane_length / g.length) ** 2 / g.radius if g.length > 0 else 0.0))
+        else:
+            count[i] = len(g.cum) - 1
+            curves.append((i, g))
+    first = np.concatenate(([0], np.cumsum(count)))
+    L = np.empty(int(first[-1]))
+    k_ends = np.empty((2, len(L)))
+    if single:
+        at, length, kappa = (np.array(x) for x in zip(*single, strict=True))
+        L[first[at]], k_ends[0, first[at]], k_ends[1, first[at]] = length, kappa, kappa
+    if curves:
+        cum = np.array(list(chain.from_iterable(g.cum for _, g in curves)), dtype=float)
+        K = np.array(list(chain.from_iterable(_curvatures(g) for _, g in curves)), dtype=float).reshape(len(cum), -1)
+        kappa = np.sqrt(np.einsum("ij,ij->i", K, K))
+        n = np.array([len(g.cum) for _, g in curves])
+        start = np.concatenate(([0], np.cumsum(n)))[:-1]  # each curve's first sample
+        inner = np.ones(len(cum), bool)
+        inner[start] = False
+        j = np.nonzero(inner)[0]  # the interval from sample j − 1 to sample j
+        c = np.repeat(np.arange(len(curves)), n)[j]
+        at = first[np.array([i for i, _ in curves])][c] + (j - start[c]) - 1
+        L[at], k_ends[0, at], k_ends[1, at] = cum[j] - cum[j - 1], kappa[j - 1], kappa[j]
+    return L, k_ends, first
+
+
+def _curvatures(g: Poly) -> Sequence[Sequence[float]]:
+    """The curvature vectors at the samples of ``g`` (as recorded, else from the interpolation)."""
     if g.curvatures is not None:
-        K = np.asarray(g.curvatures, dtype=float)
-    else:
-        from trcopt.geometry.poly import hermite_at
+        return g.curvatures
+    from trcopt.geometry.poly import hermite_at
 
-        K = hermite_at(g.arrays(), cum, 2)
-    return np.diff(cum), np.sqrt(np.einsum("ij,ij->i", K, K))
+    return hermite_at(g.arrays(), np.asarray(g.cum, dtype=float), 2).tolist()
 
 
-def _axis_speed(seg: Segment, vmax: np.ndarray) -> float:
-    """The per-axis speed limits as a path speed: along a line's direction; the smallest otherwise."""
-    g = seg.geometry
-    if isinstance(g, Line) and g.length > 0:
-        d = np.abs(np.array(g.end) - np.array(g.start)) / g.length  # plane coordinates (u, v, w)
-        limit = vmax[list(seg.plane.axes)]  # the limit of the axis each plane coordinate moves
-        return float(np.min(np.where(d > 0, limit / np.maximum(d, 1e-300), math.inf)))
-    return float(vmax.min())
+def _axis_speeds(segs: Sequence[Segment], vmax: np.ndarray) -> np.ndarray:
+    """The per-axis speed limits as a path speed per segment: along a line's direction; the
+    smallest otherwise."""
+    out = np.full(len(segs), float(vmax.min()))
+    lines = [(i, s) for i, s in enumerate(segs) if isinstance(s.geometry, Line) and s.geometry.length > 0]
+    if lines:
+        at = np.array([i for i, _ in lines])
+        g = [s.geometry for _, s in lines]
+        d = (
+            np.abs(np.array([e.end for e in g]) - np.array([e.start for e in g]))
+            / np.array([e.length for e in g])[:, None]
+        )
+        limit = vmax[np.array([s.plane.axes for _, s in lines])]  # the limit of the axis each coordinate moves
+        out[at] = np.min(np.where(d > 0, limit / np.maximum(d, 1e-300), math.inf), axis=1)
+    return out
 
 
 def _interval_times(b0: np.ndarray, b1: np.ndarray, L: np.ndarray, cap: np.ndarray, acc: float) -> np.ndarray:
