@@ -41,3 +41,12 @@ def test_the_whole_array_line_ends_of_an_ascii_text(monkeypatch: pytest.MonkeyPa
         assert list(TextLines(text)) == program_lines(text), repr(text)
     long = "".join(r.choice(["G1 X1\n", "G1 Y2\r\n", "(c)\r", "\n", " "]) for _ in range(30_000))
     assert list(TextLines(long)) == program_lines(long)
+
+
+def test_iter_lines_as_program_lines() -> None:
+    from trcopt.textlines import iter_lines
+
+    r = random.Random(5)
+    for _ in range(3000):
+        text = "".join(r.choice("ab \n\r\x0c") for _ in range(r.randint(0, 30)))
+        assert list(iter_lines(text)) == program_lines(text), repr(text)

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import re
 from array import array
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
-__all__ = ["TextLines"]
+__all__ = ["TextLines", "iter_lines"]
 
 _LINE_END = re.compile(r"\r\n|\r|\n")
 
@@ -44,6 +44,17 @@ class TextLines(Sequence[str]):
         if isinstance(i, slice):
             return [self[j] for j in range(*i.indices(len(self)))]
         return self.text[self._starts[i] : self._ends[i]]  # an index out of range: IndexError
+
+
+def iter_lines(text: str) -> Iterator[str]:
+    """The lines of :class:`TextLines` one by one, found as they are asked for (a search for the
+    first line that says something reads only up to it)."""
+    start = 0
+    for m in _LINE_END.finditer(text):
+        yield text[start : m.start()]
+        start = m.end()
+    if start < len(text):
+        yield text[start:]
 
 
 _VECTOR_FROM = 1 << 16  # characters from which the line ends of an ASCII text are found with NumPy

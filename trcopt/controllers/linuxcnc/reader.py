@@ -43,6 +43,7 @@ from trcopt.nc.collector import collector_paused
 from trcopt.nc.modal import ReadOptions
 from trcopt.nc.model import Move, NcProgram
 from trcopt.nc.stream import MoveStream, ReadSummary
+from trcopt.textlines import iter_lines
 
 __all__ = ["Rs274Reader", "read_rs274", "read_ngc", "stream_ngc"]
 
@@ -213,7 +214,7 @@ _MAYBE_UNIT_WORD = re.compile("[gG][0 \t\r\n\f\v]*2[ \t\r\n\f\v]*[01]").search
 def program_unit(text: str) -> float:
     """mm per unit of the program's first G20/G21 (mm when it has none): the machine unit of a
     tool table and parameters given in the program's unit."""
-    for raw in text.splitlines():
+    for raw in iter_lines(text):  # up to the first unit word, not a list of every line
         if "(" not in raw and _MAYBE_UNIT_WORD(raw) is None:
             continue
         try:
