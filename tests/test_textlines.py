@@ -35,6 +35,7 @@ def test_the_whole_array_line_ends_of_an_ascii_text(monkeypatch: pytest.MonkeyPa
     import trcopt.textlines as textlines
 
     monkeypatch.setattr(textlines, "_VECTOR_FROM", 0)
+    monkeypatch.setattr(textlines, "_CHUNK", 7)  # many chunks: every kind of line end meets a chunk end
     r = random.Random(11)
     for _ in range(3000):
         text = "".join(r.choice("ab \n\r") for _ in range(r.randint(0, 40)))
