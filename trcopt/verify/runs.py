@@ -82,7 +82,8 @@ class LineFacts:
         # one step per change of (on, line): the runs of contour.py's _runs
         change = np.ones(len(lines), bool)
         change[1:] = (on[1:] != on[:-1]) | (lines[1:] != lines[:-1])
-        star = self.store.star_lines
+        star = self.store.star_lines(int(lines[0]) if self.last is None else min(self.last, int(lines[0])),
+                                     int(lines[-1]))  # fmt: skip
         idx = np.nonzero(change)[0]
         at = np.minimum(np.searchsorted(star, lines[idx]), max(len(star) - 1, 0))
         has = star[at] == lines[idx] if len(star) else np.zeros(len(idx), bool)

@@ -9,8 +9,9 @@
 
 **Clearance is exact by knowing the part in advance.** ``part`` is every programmed segment of
 the plan, in order (a second reading of the program; the programmed chunks must add up to the
-same list): it is kept as compact columns (:class:`~trcopt.verify.store.ProgramStore`, a
-``float32`` grid over the part candidates), so each tool-path window is measured against the
+same list): it is kept as compact columns (:class:`~trcopt.verify.store.ProgramStore`) and a
+``float32`` grid over the part candidates (:class:`~trcopt.verify.cellgrid.CompactGrid`, built
+at the first window that needs it), so each tool-path window is measured against the
 whole part when it arrives — elements of later blocks included — and no tool-path segment is
 kept. Whether an element is part contour (its block compensated, not a lead block) is known from
 the tool path read so far (:class:`~trcopt.verify.runs.LineFacts`); the few measurements that
@@ -39,12 +40,13 @@ import numpy as np
 
 from trcopt.path import Role, Segment
 from trcopt.verify.batch import KINDS, continuation_table
+from trcopt.verify.cellgrid import CompactGrid
 from trcopt.verify.contour import Closing
 from trcopt.verify.families import LEADS, arc_radius, contact_arrays, joint_arrays, sar_for
 from trcopt.verify.plan import verify_plan
 from trcopt.verify.report import FAMILIES, FamilyResidual, VerificationReport
 from trcopt.verify.runs import LineFacts
-from trcopt.verify.store import CompactGrid, ProgramStore
+from trcopt.verify.store import ProgramStore
 from trcopt.verify.streamparts import Best, Clearance, Notes, Reversal
 
 __all__ = ["StreamVerifier"]
@@ -142,7 +144,7 @@ class StreamVerifier:
         lines = tool.line
         # the programmed rows the window reads: its lines, the next line with elements, closings
         top = int(lines.max())
-        nxt = store.next_line(np.array([top]), store.sel_lines)[0]
+        nxt = store.next_line(top)
         a, b = store.rows_of(int(lines.min()), int(max(top, nxt)))
         rows = np.arange(a, b)
         firsts = [facts.closings[ln] for ln in set(lines.tolist()) if ln in facts.closings]
@@ -234,13 +236,7 @@ class StreamVerifier:
         if self.grid is None:
             store = self.store
             assert store is not None
-            rows = np.nonzero(store.star)[0]
-            boxes = np.zeros((0, 4))
-            step = 1 << 15  # one table of this many rows at a time
-            chunks = [_boxes(store.table(rows[a : a + step])) for a in range(0, len(rows), step)]
-            if chunks:
-                boxes = np.concatenate(chunks)
-            self.grid = CompactGrid(boxes, rows, margin)
+            self.grid = CompactGrid(store.boxes, store.part_rows(), margin)
         return self.grid
 
     def _settle_arcs(self) -> None:
@@ -305,10 +301,6 @@ def _note(kind: str, amount: float, span: Any, near_tangent_rad: float) -> str:
     from trcopt.verify.families import _allowed_note
 
     return _allowed_note(kind, amount, SimpleNamespace(span=span), near_tangent_rad)  # type: ignore[arg-type]
-
-
-def _boxes(t: Any) -> np.ndarray:
-    return t.bboxes(np.arange(len(t)))
 
 
 class _Lazy:
