@@ -1,7 +1,9 @@
 """Whether a plan made window by window (``--stream on``) agrees with the whole plan's JSON.
 
 The JSON must be the same apart from what a window changes by construction: segment and section
-times and summed lengths to rounding (1e-9), the sampled maxima (``max_ratios``,
+times and summed lengths to rounding (1e-9 relative; 2e-9 absolute: a length or place the JSON
+rounds to 9 decimals is computed from sums that start at the window, not at the program start,
+and may round the other way), the sampled maxima (``max_ratios``,
 ``max_jerk_mm_s3``, ``max_jerk_ratio``) to the sampling (2e-3, each window sampled from its own
 start), the verification's elapsed time, and the binding constraint of a section whose time splits
 evenly between two constraints (at most one section, or 2 % of them).
@@ -35,8 +37,11 @@ def _first(a: Any, b: Any, path: str) -> str | None:
                 return found
         return None
     if isinstance(a, float) and isinstance(b, (int, float)) and not isinstance(b, bool):
-        tol = 2e-3 if "max_ratios" in path or "max_jerk" in path else 1e-9
-        return None if math.isclose(a, b, rel_tol=tol, abs_tol=tol) else f"{path}: {a!r} vs {b!r}"
+        if "max_ratios" in path or "max_jerk" in path:
+            close = math.isclose(a, b, rel_tol=2e-3, abs_tol=2e-3)
+        else:  # sums to rounding; a value rounded to 9 decimals may round the other way (2e-9)
+            close = math.isclose(a, b, rel_tol=1e-9, abs_tol=2e-9)
+        return None if close else f"{path}: {a!r} vs {b!r}"
     return None if a == b else f"{path}: {a!r} vs {b!r}"
 
 
