@@ -228,6 +228,7 @@ def plan_streamed(
     del raw
     reader = controllers.detect(path, text) if opts.dialect == AUTO else _controller(opts.dialect, "dialect")
     profile = reader if opts.profile == AUTO else _controller(opts.profile, "profile")
+
     def read() -> Any:
         return controllers.stream_program(
             text, file=path, dialect=reader.name, tolerances=settings.tolerances,
