@@ -123,3 +123,34 @@ def test_a_plan_leaves_no_object_out_of_the_collectors_sight() -> None:
         assert gc.get_freeze_count() > 0
         raise RuntimeError
     assert gc.get_freeze_count() == 0
+
+
+def test_a_long_stretch_without_a_stop_is_one_window(tmp_path: Path) -> None:
+    """A tangent-continuous spiral of 3 000 arcs: one timing section, so one window, found without
+    splitting the growing window at every segment; the plan equals the whole plan."""
+    lines = ["G21 G90 G17 G40", "G0 X2 Y0", "G1 F3000 X2 Y0"]
+    for k in range(3000):
+        r0, r1 = 2 + 0.001 * k, 2 + 0.001 * (k + 1)  # a cycle under an hour: 1 ms sampling both ways
+        # half circles alternating sides, each tangent to the next: a growing spiral
+        lines.append(f"G3 X{-r1 if k % 2 == 0 else r1:.4f} Y0 R{(r0 + r1) / 2:.4f}")
+    lines.append("M2")
+    prog = tmp_path / "spiral.ngc"
+    prog.write_text("\n".join(lines) + "\n")
+    calls = []
+    import trcopt.pipeline.stream as stream
+
+    original = stream._Run.window
+
+    def counted(self: Any, buf: list, tee: Any, final: bool) -> list:
+        calls.append(len(buf))
+        return original(self, buf, tee, final)
+
+    stream._Run.window = counted  # type: ignore[method-assign]
+    try:
+        streamed = plan_streamed(str(prog), PlanOptions(), json=True, window=50)
+    finally:
+        stream._Run.window = original  # type: ignore[method-assign]
+    assert len(calls) < 20, calls  # doubling: about log2(3000/50) tries, not 3000
+    whole = plan_file(prog, PlanOptions())
+    assert whole.timing is not None and len(whole.timing.sections) <= 3
+    _compare(json.loads("".join(whole.json_chunks())), json.loads("".join(streamed.json_chunks())))

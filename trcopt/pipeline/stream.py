@@ -273,10 +273,14 @@ def plan_streamed(
     try:
         with collector_paused():
             buf: list[Segment] = []
+            limit = window
             for seg in profile.compensate(iter(tee), settings, comp_diags, _Complete(stream, lead_diags)):
                 buf.append(seg)
-                if len(buf) >= window:
+                if len(buf) >= limit:
                     buf = run.window(buf, tee, final=False)
+                    # a stretch without a stop grows the window: look for its end again at twice
+                    # the length (not at every segment: that would split it quadratically often)
+                    limit = window if len(buf) < window else 2 * len(buf)
             for _ in tee:  # the programmed contour after an alarm, as the whole plan reads it
                 pass
             run.window(buf, tee, final=True)
