@@ -257,7 +257,8 @@ def plan_streamed(
             if seg is not None:
                 yield seg
 
-    run = _Run(opts, settings, profile, None, samples, part)
+    with collector_paused():  # the first reading: its moves and segments hold no cycles
+        run = _Run(opts, settings, profile, None, samples, part)
     lead_diags: list[Diagnostic] = []
     comp_diags: list[Diagnostic] = []
     stream = read()
