@@ -154,3 +154,29 @@ def test_a_long_stretch_without_a_stop_is_one_window(tmp_path: Path) -> None:
     whole = plan_file(prog, PlanOptions())
     assert whole.timing is not None and len(whole.timing.sections) <= 3
     _compare(json.loads("".join(whole.json_chunks())), json.loads("".join(streamed.json_chunks())))
+
+
+def test_a_limit_exceeded_between_grid_points_is_one_warning_both_ways(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A feed whose limit check fails (forced: every check reports a violation, with the real
+    ratios scaled up) gives one TIMING-LIMITS warning at the worst block, the same whole and
+    window by window."""
+    import dataclasses
+
+    from trcopt.codes import Code
+    from trcopt.timing.trajectory import TimedTrajectory
+
+    real = TimedTrajectory.check_limits
+
+    def failing(self: Any, dt: float = 1e-4, tolerance: float = 1.001) -> Any:
+        rep = real(self, dt, tolerance)
+        return dataclasses.replace(rep, ok=False, a_ratio=tuple(1.5 * a for a in rep.a_ratio))
+
+    monkeypatch.setattr(TimedTrajectory, "check_limits", failing)
+    path = ROOT / "problems" / "siemens" / "ex05_kont_g451.mpf"
+    whole = plan_file(path, PlanOptions())
+    streamed = plan_streamed(str(path), PlanOptions(), window=3)
+    warned = [d for d in whole.diagnostics if d.code == Code.TIMING_LIMITS]
+    assert len(warned) == 1 and "acceleration" in warned[0].message and warned[0].span.line > 0
+    assert [(d.code, d.message, d.span) for d in streamed.diagnostics] == [
+        (d.code, d.message, d.span) for d in whole.diagnostics
+    ]

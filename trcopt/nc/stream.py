@@ -50,7 +50,6 @@ class MoveStream(Iterator[Move]):
         self._finish = finish
         self._range: Diagnostic | None = None
         self._program: NcProgram | None = None
-        self.count = 0  # moves given so far
 
     def __iter__(self) -> MoveStream:
         return self
@@ -62,7 +61,6 @@ class MoveStream(Iterator[Move]):
         if move is not None:
             problem = out_of_range(move)
             if problem is None:
-                self.count += 1
                 return move
             self._range = Diagnostic(Severity.ERROR, Code.NC_RANGE, problem, move.span)
             close = getattr(self._moves, "close", None)
@@ -78,10 +76,6 @@ class MoveStream(Iterator[Move]):
             line = max(self._range.span.line, 1)
             diags = [d for d in diags if d.span.line < line or not d.span.line] + [self._range]
         self._program = NcProgram(self.file, self.dialect, (), tuple(diags), summary.blocks, summary.extras)
-
-    @property
-    def done(self) -> bool:
-        return self._program is not None
 
     @property
     def failed(self) -> bool:

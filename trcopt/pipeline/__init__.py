@@ -404,15 +404,7 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
     check_dt = check_step(acceleration_limited.duration, ACCELERATION_CHECK_DT_S)
     rep = acceleration_limited.check_limits(check_dt)
     if not rep.ok:
-        from trcopt.errors import TimingError
-
-        msg = (
-            f"the acceleration-limited feed exceeds a limit between its grid points: acceleration "
-            f"{max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f}, feed {rep.feed_ratio:.4f} × the limit "
-            "(the cycle time is optimistic there; JSON timing.max_ratios)"
-        )
-        span = _worst_sample_span(acceleration_limited, machine, check_dt)
-        _timing_warning(result, TimingError(msg, span, Code.TIMING_LIMITS), "timing check")
+        _timing_warning(result, limits_error(rep, acceleration_limited, machine, check_dt), "timing check")
     if jerk:
         from trcopt.timing.jerk import jerk_limited
 
@@ -433,6 +425,19 @@ def _attach_timing(result: PlanResult, machine: Machine, *, jerk: bool = False, 
                 f"acceleration {max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f} × the machine limit"
             )
             _timing_warning(result, TimingError(msg), "jerk-limited feed check")
+
+
+def limits_error(rep: Any, trajectory: Trajectory, machine: Machine, check_dt: float) -> TrcoptError:
+    """The ``TIMING-LIMITS`` error of an acceleration-limited feed whose check ``rep`` found a
+    limit exceeded between grid points, at the block of its worst sample."""
+    from trcopt.errors import TimingError
+
+    msg = (
+        f"the acceleration-limited feed exceeds a limit between its grid points: acceleration "
+        f"{max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f}, feed {rep.feed_ratio:.4f} × the limit "
+        "(the cycle time is optimistic there; JSON timing.max_ratios)"
+    )
+    return TimingError(msg, _worst_sample_span(trajectory, machine, check_dt), Code.TIMING_LIMITS)
 
 
 def _worst_sample_span(trajectory: Trajectory, machine: Machine, dt_s: float) -> SourceSpan | None:

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 from trcopt.codes import Code
 from trcopt.compensation import programmed_segment
-from trcopt.errors import Diagnostic, Severity, SourceSpan, TrcoptError
+from trcopt.errors import Diagnostic, Severity, TrcoptError
 from trcopt.modes import PathMode
 from trcopt.nc.collector import collector_paused
 from trcopt.nc.model import Move, NcProgram
@@ -107,14 +107,14 @@ class _Timing:
     segments: int = 0
     sections: int = 0
     json: dict[str, Any] | None = None
-    worst: tuple[float, str, SourceSpan | None] | None = None  # (ratio, message, span) past a limit
+    worst: tuple[float, TrcoptError] | None = None  # the largest ratio past a limit and its warning
     jerk_limited: bool = False
     end_a: Any = None  # per-axis acceleration at the end of the last window, mm/s²
 
     def add(self, window: list[Segment], sections_out: ArrayText | None, samples: str | None) -> list[Any]:
         """Time one window; returns the segments with their times. Raises ``TrcoptError`` as
         :func:`~trcopt.timing.time_parameterize` does."""
-        from trcopt.pipeline import _worst_sample_span
+        from trcopt.pipeline import limits_error
         from trcopt.timing import time_parameterize
 
         traj = time_parameterize(window, self.machine)
@@ -122,13 +122,8 @@ class _Timing:
         if not rep.ok:
             ratio = max(max(rep.a_ratio), max(rep.v_ratio), rep.feed_ratio)
             if self.worst is None or ratio > self.worst[0]:
-                msg = (
-                    f"the acceleration-limited feed exceeds a limit between its grid points: acceleration "
-                    f"{max(rep.a_ratio):.4f}, velocity {max(rep.v_ratio):.4f}, feed {rep.feed_ratio:.4f} × the limit "
-                    "(the cycle time is optimistic there; JSON timing.max_ratios)"
-                )
-                span = _worst_sample_span(traj, self.machine, check_step(traj.duration, ACCELERATION_CHECK_DT_S))
-                self.worst = (ratio, msg, span)
+                check_dt = check_step(traj.duration, ACCELERATION_CHECK_DT_S)
+                self.worst = (ratio, limits_error(rep, traj, self.machine, check_dt))
         part = traj.to_json(samples=samples)
         self._boundary_jerk(traj, part)
         t0, t1 = traj.segment_times()
@@ -390,10 +385,7 @@ class _Run:
         if self.timing is not None and self.segments:
             plan.timing = self.timing
             if self.timing.worst is not None:
-                from trcopt.errors import TimingError
-
-                _, msg, span = self.timing.worst
-                _timing_warning(plan, TimingError(msg, span, Code.TIMING_LIMITS), "timing check")  # type: ignore[arg-type]
+                _timing_warning(plan, self.timing.worst[1], "timing check")  # type: ignore[arg-type]
         return plan
 
 
