@@ -85,6 +85,12 @@ def programmed_segment(m: Move, tol: float = 1e-3) -> Segment | None:
     return _any_programmed_segment(m, tol)
 
 
+def makes_segment(m: Move) -> bool:
+    """Whether :func:`programmed_segment` of ``m`` is a segment (not None), without making it."""
+    kind = m.kind
+    return kind is not _NONE and (kind is MoveKind.ARC or m.start != m.end)
+
+
 def _any_programmed_segment(m: Move, tol: float) -> Segment | None:
     """:func:`programmed_segment` of any move."""
     kind = m.kind

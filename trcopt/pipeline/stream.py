@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 from trcopt.codes import Code
 from trcopt.compensation import programmed_segment
+from trcopt.compensation.engine import makes_segment
 from trcopt.errors import Diagnostic, Severity, TrcoptError
 from trcopt.modes import PathMode
 from trcopt.nc.collector import collector_paused
@@ -260,6 +261,8 @@ def plan_streamed(
     tap = tapped(stream) if gcode else stream  # the lead pass reads the moves through the tap
     moves = leads(tap, lead_diags)
     tee = _Moves(iter(moves), path, settings.tolerances.coincidence_mm)
+    # without the JSON, the programmed segments are only counted (the verification has the part)
+    tee.keep = json or (run.verifier is not None and not run.verifier.streaming)
     out = _Outputs(ArrayText(1, True), ArrayText(1, True), ArrayText(2, False)) if json else None
     run.out = out
     if gcode:
@@ -357,6 +360,7 @@ class _Run:
             except TrcoptError as exc:
                 raise Unstreamable(f"the timing stage fails: {exc}") from None
         if self.out is not None:
+            assert not isinstance(programmed, int)
             self.out.programmed.add(programmed)
             self.out.toolpath.add(timed)
         if self.spill is not None:
@@ -396,6 +400,8 @@ class _Moves:
     def __init__(self, moves: Iterator[Move], file: str, tol: float) -> None:
         self._moves, self.file, self.tol = moves, file, tol
         self.programmed: list[Segment] = []
+        self.counted = 0  # the programmed segments since the last window when they are not kept
+        self.keep = True  # False: the programmed segments are counted, not made
         self.pending: list[Move] = []
         self._line = 0
 
@@ -411,6 +417,12 @@ class _Moves:
             yield m
 
     def __iter__(self) -> Iterator[Move]:
+        if not self.keep:
+            for m in self.checked():
+                self.pending.append(m)
+                self.counted += makes_segment(m)
+                yield m
+            return
         for m in self.checked():
             self.pending.append(m)
             seg = programmed_segment(m, self.tol)
@@ -418,9 +430,11 @@ class _Moves:
                 self.programmed.append(seg)
             yield m
 
-    def take(self) -> tuple[list[Segment], list[Move]]:
-        out = self.programmed, self.pending
-        self.programmed, self.pending = [], []
+    def take(self) -> tuple[list[Segment] | int, list[Move]]:
+        """The programmed segments since the last window (their number when they are not kept)
+        and the moves."""
+        out = (self.programmed if self.keep else self.counted), self.pending
+        self.programmed, self.counted, self.pending = [], 0, []
         return out
 
 

@@ -85,11 +85,20 @@ class StreamVerifier:
 
     # ---- input ------------------------------------------------------------------------------
 
-    def add(self, programmed: Sequence[Segment], toolpath: Sequence[Segment], moves: Sequence[Any] | None = None,
-            ) -> None:
-        """The next piece of each list (programmed segments, tool-centre segments, moves)."""
+    @property
+    def streaming(self) -> bool:
+        """Whether the windows are evaluated as they come (with ``part``): the programmed pieces
+        may then be given as their numbers of segments (the part is known)."""
+        return self._buffer is None
+
+    def add(self, programmed: Sequence[Segment] | int, toolpath: Sequence[Segment],
+            moves: Sequence[Any] | None = None) -> None:  # fmt: skip
+        """The next piece of each list (programmed segments, or their number when
+        :attr:`streaming`; tool-centre segments; moves)."""
         t0 = time.perf_counter()
         if self._buffer is not None:
+            if isinstance(programmed, int):
+                raise TypeError("programmed segments are needed without the part")
             for out, piece in zip(self._buffer, (programmed, toolpath, moves or ()), strict=True):
                 out.extend(piece)
         else:
@@ -97,8 +106,9 @@ class StreamVerifier:
             self._evaluate(final=False)
         self._seconds += time.perf_counter() - t0
 
-    def _read(self, programmed: Sequence[Segment], toolpath: Sequence[Segment], moves: Sequence[Any] | None) -> None:
-        self.n_programmed += len(programmed)
+    def _read(self, programmed: Sequence[Segment] | int, toolpath: Sequence[Segment],
+              moves: Sequence[Any] | None) -> None:  # fmt: skip
+        self.n_programmed += programmed if isinstance(programmed, int) else len(programmed)
         for m in moves or ():
             sar = getattr(m, "sar", None)
             if sar is not None:
