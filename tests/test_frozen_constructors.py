@@ -1,7 +1,7 @@
 """The quick constructors of the frozen records made once per block — ``SourceSpan(...)``,
 :func:`trcopt.nc.model.new_move`, :func:`trcopt.path.new_segment` — give the very objects the
 dataclass constructor gives: equal, of the same class and hash, frozen, printed, copied, pickled
-and replaced alike."""
+and replaced alike. ``Line(...)`` is made the same way."""
 
 from __future__ import annotations
 
@@ -93,3 +93,12 @@ def test_segments() -> None:
         _alike(seg, _dataclass_made(Segment, *args))
         _alike(seg, Segment(*args))  # type: ignore[arg-type]
         assert seg.with_times(1.0, 2.0) == Segment(*args, t_start_s=1.0, t_end_s=2.0)  # type: ignore[arg-type, misc]
+
+
+def test_lines() -> None:
+    for start, end in [((0.0, 0.0, 0.0), (1.0, 2.0, 3.0)), ((-1.5, 2.0, 0.0), (-1.5, 2.0, 0.0))]:
+        line = Line(start, end)
+        _alike(line, _dataclass_made(Line, start, end))
+        assert line.start is start and line.end is end
+        assert dataclasses.replace(line, end=start) == Line(start, start)
+        assert Line(end=end, start=start) == line

@@ -43,12 +43,24 @@ def _lerp(a: float, b: float, t: float) -> float:
     return a + (b - a) * t
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False)
 class Line:
-    """Straight segment from ``start`` to ``end`` (u, v, w), mm."""
+    """Straight segment from ``start`` to ``end`` (u, v, w), mm.
+
+    A frozen dataclass made by ``__new__`` (see :class:`_LineSlots`): a line is made for nearly
+    every block of a program, and the dataclass constructor, which sets each field through
+    ``object.__setattr__``, costs three times as much.
+    """
 
     start: Vec3
     end: Vec3
+
+    def __new__(cls, start: Vec3 = (0.0, 0.0, 0.0), end: Vec3 = (0.0, 0.0, 0.0)) -> Line:
+        # the defaults serve unpickling and copying, which make the object before setting its state
+        line = _LineSlots()
+        line.start, line.end = start, end
+        line.__class__ = cls  # type: ignore[assignment]
+        return line  # type: ignore[return-value]
 
     @property
     def plane_length(self) -> float:
@@ -137,6 +149,15 @@ class Line:
 
     def curvature2(self, lam: float) -> float:
         return 0.0
+
+
+class _LineSlots:
+    """The slots of :class:`Line` (the same layout) without its frozen ``__setattr__``: a line
+    is filled in as one of these, then becomes a :class:`Line`."""
+
+    __slots__ = Line.__slots__
+    start: Vec3
+    end: Vec3
 
 
 @dataclass(frozen=True, slots=True)
