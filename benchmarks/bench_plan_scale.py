@@ -11,6 +11,13 @@ interpreter ``rs274`` on the same file where it is available (built outside the 
 Programs over 4 MiB (10⁶ blocks) are planned window by window (``--stream auto``), smaller ones
 whole; the outputs rows run both ways: ``--stream on`` (window by window, bounded memory) and
 ``--stream off`` (the whole program, up to ``--whole-up-to``).
+
+The row "API plan_file, in process" is the same ``--no-timing`` plan made by the Python API in a
+process that has already imported the package (a batch worker, a notebook): its wall time is the
+plan alone (after a first plan of a 200-chord contour), without the ~0.15–0.2 s a new process
+spends starting the interpreter and importing NumPy and the package, which dominates the
+command's rows at 10⁴ blocks. Up to ``--api-up-to``
+blocks (the whole program is planned in memory).
 """
 
 from __future__ import annotations
@@ -30,6 +37,16 @@ sys.path.insert(0, str(ROOT))
 from bench_cam_scale import contour  # noqa: E402
 
 TIME = shutil.which("time") or "/usr/bin/time"
+# the plan of the API timed after the imports and a first small plan (which loads the modules
+# the stages import on first use); printed: wall seconds, ok
+API = """
+import sys, time
+from trcopt.pipeline import PlanOptions, plan_file
+plan_file(sys.argv[2], PlanOptions(timing=False))
+t0 = time.perf_counter()
+result = plan_file(sys.argv[1], PlanOptions(timing=False))
+print(time.perf_counter() - t0, result.ok)
+"""
 
 
 def run(cmd: list[str]) -> tuple[float, float, int]:
@@ -51,6 +68,8 @@ def main(argv: list[str]) -> int:
         "--whole-up-to", type=int, default=100_000,
         help="also run the whole-program plan (--stream off) up to this size (about 3 KB per block)",
     )
+    parser.add_argument("--api-up-to", type=int, default=100_000,
+                        help="also time the API's plan in a process with the package imported, up to this size")
     args = parser.parse_args(argv)
     table = Path("/work/shared/peer_cases/linuxcnc/_default-tooltable/sim.tbl")
     rs274 = args.rs274 if Path(args.rs274).exists() and table.exists() else None
@@ -62,6 +81,8 @@ def main(argv: list[str]) -> int:
     print("|---|---|---|---|---|---|---|")
     py = [sys.executable, "-m", "trcopt", "plan"]
     with tempfile.TemporaryDirectory() as tmp:
+        warm = Path(tmp) / "warm.ngc"
+        warm.write_text(contour(200, compensated=True))
         for chords in (int(x) for x in args.sizes.split(",")):
             prog = Path(tmp) / f"cam{chords}.ngc"
             prog.write_text(contour(chords, compensated=True))
@@ -86,6 +107,17 @@ def main(argv: list[str]) -> int:
                 ratio = f"{wall / base:.1f}" if base else "–"
                 print(f"| {blocks:,} | {name} | {wall:.2f} | {blocks / wall:,.0f} | {peak:.0f} | {code} | {ratio} |",
                       flush=True)
+                if name.endswith("--no-timing") and chords <= args.api_up_to:
+                    done = subprocess.run([sys.executable, "-c", API, str(prog), str(warm)], capture_output=True, text=True)
+                    words = done.stdout.split()
+                    if done.returncode == 0 and len(words) == 2 and words[1] == "True":
+                        wall = float(words[0])
+                        ratio = f"{wall / base:.1f}" if base else "–"
+                        print(f"| {blocks:,} | API plan_file --no-timing, in process | {wall:.2f} | "
+                              f"{blocks / wall:,.0f} | | 0 | {ratio} |", flush=True)
+                    else:
+                        print(f"| {blocks:,} | API plan_file --no-timing, in process | failed: {done.stderr.strip()[-200:]} "
+                              "| | | | |", flush=True)
     return 0
 
 
