@@ -139,17 +139,17 @@ def test_a_long_stretch_without_a_stop_is_one_window(tmp_path: Path) -> None:
     calls = []
     import trcopt.pipeline.stream as stream
 
-    original = stream._Run.window
+    original = stream._Run.cut
 
-    def counted(self: Any, buf: list, tee: Any, final: bool) -> list:
+    def counted(self: Any, buf: list, tee: Any, final: bool) -> Any:
         calls.append(len(buf))
         return original(self, buf, tee, final)
 
-    stream._Run.window = counted  # type: ignore[method-assign]
+    stream._Run.cut = counted  # type: ignore[method-assign]
     try:
         streamed = plan_streamed(str(prog), PlanOptions(), json=True, window=50)
     finally:
-        stream._Run.window = original  # type: ignore[method-assign]
+        stream._Run.cut = original  # type: ignore[method-assign]
     assert len(calls) < 20, calls  # doubling: about log2(3000/50) tries, not 3000
     whole = plan_file(prog, PlanOptions())
     assert whole.timing is not None and len(whole.timing.sections) <= 3

@@ -1,9 +1,11 @@
 """A sequence of segments kept in a temporary file: :class:`SpilledSegments`.
 
 A plan computed window by window (:mod:`trcopt.pipeline.stream`) appends each window's segments
-here (pickled, one chunk per window) and a writer that needs the whole path twice (the G-code
-writer reads it to choose its preamble, then writes it) reads it back chunk by chunk: the memory
-held is one chunk, whatever the length of the path.
+here (one chunk per window, as the columns of :mod:`trcopt.io.segcodec`, or pickled when a chunk
+holds a number that is not a float) and the later stages read them back chunk by chunk (the
+verification, timing and writers of each window; the G-code writer reads the path twice: to
+choose its preamble, then to write it): the memory held is one chunk, whatever the length of the
+path.
 """
 
 from __future__ import annotations
@@ -68,10 +70,14 @@ class SpilledSegments(Sequence[Segment]):
         self._file.seek(0, 2)
         self._starts.append(self._n)
         self._offsets.append(self._file.tell())
+        from trcopt.io.segcodec import encode
+
+        chunk = list(segments)
+        columns = encode(chunk)
         pickler = pickle.Pickler(self._file, protocol=pickle.HIGHEST_PROTOCOL)
         pickler.dispatch_table = _DISPATCH
-        pickler.dump(list(segments))
-        self._n += len(segments)
+        pickler.dump(chunk if columns is None else columns)
+        self._n += len(chunk)
 
     def __len__(self) -> int:
         return self._n
@@ -80,13 +86,22 @@ class SpilledSegments(Sequence[Segment]):
         if self._cache is not None and self._cache[0] == k:
             return self._cache[1]
         self._file.seek(self._offsets[k])
-        chunk: list[Segment] = pickle.load(self._file)
+        chunk: Any = pickle.load(self._file)
+        if isinstance(chunk, tuple):
+            from trcopt.io.segcodec import decode
+
+            chunk = decode(*chunk)
         self._cache = (k, chunk)
         return chunk
 
     def __iter__(self) -> Iterator[Segment]:
         for k in range(len(self._offsets)):
             yield from self._chunk(k)
+
+    def chunks(self) -> Iterator[list[Segment]]:
+        """The chunks as they were appended (each read from the file as it is reached)."""
+        for k in range(len(self._offsets)):
+            yield self._chunk(k)
 
     @overload
     def __getitem__(self, i: int) -> Segment: ...

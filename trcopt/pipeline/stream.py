@@ -1,13 +1,17 @@
 """``plan_streamed``: a plan computed window by window in bounded memory, its outputs written as
 they are produced.
 
-The program is read block by block (:func:`trcopt.controllers.stream_program`); the moves flow
-through the lead pass and the compensation (both generators); the tool path is cut into windows
-of about :data:`WINDOW_SEGMENTS` segments at the ends of timing sections (where the tool stops:
-the timing of one window does not depend on the next), and each window is verified
+The program is read once, block by block (:func:`trcopt.controllers.stream_program`); the moves
+flow through the lead pass and the compensation (both generators); the tool path is cut into
+windows of about :data:`WINDOW_SEGMENTS` segments at the ends of timing sections (where the tool
+stops: the timing of one window does not depend on the next), and each window is kept in a
+temporary file (:class:`~trcopt.io.spill.SpilledSegments`) while the programmed contour is
+gathered as the verification's part (:class:`~trcopt.verify.store.ProgramStore`, compact
+columns). Then each window is read back, verified against the whole part
 (:class:`~trcopt.verify.stream.StreamVerifier`), timed (:func:`trcopt.timing.time_parameterize`)
-and written to the JSON and G-code outputs before the next is made. Neither the moves nor the
-segments of the whole program are ever held; the outputs are put in place atomically at the end.
+and written to the JSON output; the G-code writer reads the same file. Neither the moves nor the
+segments of the whole program are ever held as objects; the outputs are put in place atomically
+at the end.
 
 The result equals :func:`trcopt.pipeline.plan`'s (the same diagnostics, segments, cycle time and
 verification; segment times to rounding in the last digits, since each window's times start at
@@ -22,7 +26,7 @@ reports it as :func:`~trcopt.pipeline.plan` does).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -245,53 +249,55 @@ def plan_streamed(
                 run.word_moves.append(m)
             yield m
 
-    def part() -> Iterator[Segment]:
-        """The programmed contour of a first reading (the verification's part, known in advance)."""
-        tol = settings.tolerances.coincidence_mm
-        for m in _Moves(iter(leads(read(), [])), path, tol).checked():
-            seg = programmed_segment(m, tol)
-            if seg is not None:
-                yield seg
-
-    with collector_paused():  # the first reading: its moves and segments hold no cycles
-        run = _Run(opts, settings, profile, None, samples, part)
     lead_diags: list[Diagnostic] = []
     comp_diags: list[Diagnostic] = []
     stream = read()
     tap = tapped(stream) if gcode else stream  # the lead pass reads the moves through the tap
     moves = leads(tap, lead_diags)
     tee = _Moves(iter(moves), path, settings.tolerances.coincidence_mm)
-    # without the JSON, the programmed segments are only counted (the verification has the part)
-    tee.keep = json or (run.verifier is not None and not run.verifier.streaming)
+    # the programmed segments feed the verification's part and the JSON; else they are counted
+    tee.keep = json or opts.verify
     out = _Outputs(ArrayText(1, True), ArrayText(1, True), ArrayText(2, False)) if json else None
-    run.out = out
-    if gcode:
-        from trcopt.io.spill import SpilledSegments
+    run = _Run(opts, out, samples, profile.name)
 
-        run.spill = SpilledSegments()
+    def first_pass() -> Iterator[Segment]:
+        """Read, compensate and cut the windows (kept in ``run.windows``); the programmed
+        segments as they are read (the verification's part, known before any window is verified)."""
+        buf: list[Segment] = []
+        limit = window
+        for seg in profile.compensate(iter(tee), settings, comp_diags, _Complete(stream, lead_diags)):
+            buf.append(seg)
+            if len(buf) >= limit:
+                buf, programmed = run.cut(buf, tee, final=False)
+                yield from programmed
+                # a stretch without a stop grows the window: look for its end again at twice
+                # the length (not at every segment: that would split it quadratically often)
+                limit = window if len(buf) < window else 2 * len(buf)
+        for _ in tee:  # the programmed contour after an alarm, as the whole plan reads it
+            pass
+        _, programmed = run.cut(buf, tee, final=True)
+        yield from programmed
+        for _ in tap:  # the blocks after a lead-pass alarm (their words; the reader's diagnostics)
+            pass
+
     try:
-        with collector_paused():
-            buf: list[Segment] = []
-            limit = window
-            for seg in profile.compensate(iter(tee), settings, comp_diags, _Complete(stream, lead_diags)):
-                buf.append(seg)
-                if len(buf) >= limit:
-                    buf = run.window(buf, tee, final=False)
-                    # a stretch without a stop grows the window: look for its end again at twice
-                    # the length (not at every segment: that would split it quadratically often)
-                    limit = window if len(buf) < window else 2 * len(buf)
-            for _ in tee:  # the programmed contour after an alarm, as the whole plan reads it
-                pass
-            run.window(buf, tee, final=True)
-            for _ in tap:  # the blocks after a lead-pass alarm (their words; the reader's diagnostics)
-                pass
+        with collector_paused():  # the moves and segments hold no cycles
+            if opts.verify:
+                from trcopt.verify.store import ProgramStore
+                from trcopt.verify.stream import StreamVerifier
+
+                part = ProgramStore(first_pass())
+                run.verifier = StreamVerifier(settings, near_tangent_rad=profile.near_tangent_rad, part=part)
+                if not run.verifier.streaming:
+                    raise Unstreamable("its blocks run out of line order (loops, subprograms)")
+            else:
+                for _ in first_pass():
+                    pass
+            run.second_pass()
     except BaseException:
-        if out is not None:
-            out.close()
-        if run.spill is not None:
-            run.spill.close()
+        run.close()
         raise
-    return run.finish(stream.program, reader.dialect, path, text, lead_diags + comp_diags)
+    return run.finish(stream.program, reader.dialect, path, text, lead_diags + comp_diags, gcode)
 
 
 @dataclass
@@ -316,27 +322,24 @@ class _Complete:
 
 
 class _Run:
-    """The stages after the compensation, one window at a time."""
+    """The windows: cut and kept in a temporary file as the program is read and compensated
+    (:meth:`cut`), then verified, timed and written one at a time (:meth:`second_pass`)."""
 
-    def __init__(
-        self, opts: PlanOptions, settings: Any, profile: Any, out: _Outputs | None, samples: str | None,
-        part: Callable[[], Iterator[Segment]],
-    ) -> None:
-        self.opts, self.out, self.samples = opts, out, samples
-        self.verifier = None
-        if opts.verify:
-            from trcopt.verify.stream import StreamVerifier
+    def __init__(self, opts: PlanOptions, out: _Outputs | None, samples: str | None, profile: str) -> None:
+        from trcopt.io.spill import SpilledSegments
 
-            # the part contour of a first reading: each window is checked against all of it
-            self.verifier = StreamVerifier(settings, near_tangent_rad=profile.near_tangent_rad, part=part())
+        self.opts, self.out, self.samples, self.profile = opts, out, samples, profile
+        self.verifier: Any = None
         self.timing = _Timing(opts.machine) if opts.timing else None
-        self.profile = profile.name
         self.segments, self.length = 0, 0.0
-        self.spill: Any = None  # the tool path for the G-code writer (SpilledSegments)
+        self.windows = SpilledSegments()  # every window's tool path (the G-code writer's too)
+        # per window: its number of segments, of programmed segments, and its SAR moves
+        self.cuts: list[tuple[int, int, list[Move]]] = []
         self.word_moves: list[Move] = []  # the reader's moves that carry words (the G-code writer's)
 
-    def window(self, buf: list[Segment], tee: _Moves, final: bool) -> list[Segment]:
-        """Plan the segments of ``buf`` up to the last section end (all when ``final``); the rest."""
+    def cut(self, buf: list[Segment], tee: _Moves, final: bool) -> tuple[list[Segment], list[Segment]]:
+        """Keep the segments of ``buf`` up to the last section end (all when ``final``) as a
+        window; (the rest, the window's programmed segments)."""
         keep: list[Segment] = []
         if not final and self.timing is not None:
             from trcopt.timing.path import PathArrays
@@ -347,38 +350,57 @@ class _Run:
             except TrcoptError as exc:
                 raise Unstreamable(f"the timing stage fails: {exc}") from None
             if len(sections) < 2:
-                return buf  # one section so far: the window grows until it ends
+                return buf, []  # one section so far: the window grows until it ends
             cut = sections[-1].first
             buf, keep = buf[:cut], buf[cut:]
         programmed, moves = tee.take()
-        if self.verifier is not None:
-            self.verifier.add(programmed, buf, moves)
-        timed: list[Any] = buf
-        if self.timing is not None and buf:
-            try:
-                timed = self.timing.add(buf, None if self.out is None else self.out.sections, self.samples)
-            except TrcoptError as exc:
-                raise Unstreamable(f"the timing stage fails: {exc}") from None
+        count = programmed if isinstance(programmed, int) else len(programmed)
         if self.out is not None:
             assert not isinstance(programmed, int)
             self.out.programmed.add(programmed)
-            self.out.toolpath.add(timed)
-        if self.spill is not None:
-            self.spill.append(buf)
+        self.windows.append(buf)
+        self.cuts.append((len(buf), count, [m for m in moves if m.sar is not None]))
         self.segments += len(buf)
         self.length += segments_length(buf)
-        return keep
+        return keep, [] if isinstance(programmed, int) else programmed
 
-    def finish(self, nc: NcProgram, dialect: str, file: str, text: str, trc_diags: list[Diagnostic]) -> StreamedPlan:
+    def second_pass(self) -> None:
+        """Verify, time and write the windows in order."""
+        chunks = self.windows.chunks()
+        for n, programmed, sar_moves in self.cuts:
+            buf: list[Segment] = next(chunks) if n else []
+            if self.verifier is not None:
+                self.verifier.add(programmed, buf, sar_moves)
+            if not buf:
+                continue
+            timed: list[Any] = buf
+            if self.timing is not None:
+                try:
+                    timed = self.timing.add(buf, None if self.out is None else self.out.sections, self.samples)
+                except TrcoptError as exc:
+                    raise Unstreamable(f"the timing stage fails: {exc}") from None
+            if self.out is not None:
+                self.out.toolpath.add(timed)
+
+    def close(self) -> None:
+        if self.out is not None:
+            self.out.close()
+        self.windows.close()
+
+    def finish(
+        self, nc: NcProgram, dialect: str, file: str, text: str, trc_diags: list[Diagnostic], gcode: bool
+    ) -> StreamedPlan:
         from trcopt.pipeline import _attach_toolholder, _timing_warning
 
         diagnostics = [*nc.diagnostics, *trc_diags]
         diagnostics.sort(key=lambda d: (d.span.line, d.span.column))
         plan = StreamedPlan(file, dialect, nc, self.segments, self.length, diagnostics)
         plan.out = self.out
-        if self.spill is not None:
-            plan.toolpath, plan.source = self.spill, text
+        if gcode:
+            plan.toolpath, plan.source = self.windows, text
             plan.nc = dataclasses.replace(nc, moves=tuple(self.word_moves))
+        else:
+            self.windows.close()
         plan.extra["profile"] = self.profile
         _attach_toolholder(plan)  # type: ignore[arg-type]
         if self.verifier is not None:

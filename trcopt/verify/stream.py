@@ -8,9 +8,9 @@
 ``report`` equals :func:`~trcopt.verify.plan.verify_plan` of the whole lists, for any cut points.
 
 **Clearance is exact by knowing the part in advance.** ``part`` is every programmed segment of
-the plan, in order (a second reading of the program; the programmed chunks must add up to the
-same list): it is kept as compact columns (:class:`~trcopt.verify.store.ProgramStore`) and a
-``float32`` grid over the part candidates (:class:`~trcopt.verify.cellgrid.CompactGrid`, built
+the plan, in order, or their :class:`~trcopt.verify.store.ProgramStore` (read before the windows
+are verified; the programmed chunks must add up to the same list): it is kept as those compact
+columns and a ``float32`` grid over the part candidates (:class:`~trcopt.verify.cellgrid.CompactGrid`, built
 at the first window that needs it), so each tool-path window is measured against the
 whole part when it arrives — elements of later blocks included — and no tool-path segment is
 kept. Whether an element is part contour (its block compensated, not a lead block) is known from
@@ -58,10 +58,10 @@ class StreamVerifier:
     """Incremental :func:`~trcopt.verify.plan.verify_plan` (see the module docstring)."""
 
     def __init__(self, settings: Any = None, tolerance: float = 1e-6, near_tangent_rad: float = 0.0,
-                 part: Iterable[Segment] | None = None) -> None:  # fmt: skip
+                 part: Iterable[Segment] | ProgramStore | None = None) -> None:  # fmt: skip
         t0 = time.perf_counter()
         self.settings, self.tolerance, self.near = settings, tolerance, near_tangent_rad
-        self.store = ProgramStore(part) if part is not None else None
+        self.store = part if isinstance(part, ProgramStore) or part is None else ProgramStore(part)
         self._buffer: tuple[list, list, list] | None = None
         if self.store is None or not self.store.monotone:
             self.store, self._buffer = None, ([], [], [])
