@@ -259,6 +259,7 @@ def plan_streamed(
     tee.keep = json or opts.verify
     out = _Outputs(ArrayText(1, True), ArrayText(1, True), ArrayText(2, False)) if json else None
     run = _Run(opts, out, samples, profile.name)
+    run.keep = opts.verify or opts.timing or json or gcode  # a later stage reads the windows
 
     def first_pass() -> Iterator[Segment]:
         """Read, compensate and cut the windows (kept in ``run.windows``); the programmed
@@ -333,6 +334,7 @@ class _Run:
         self.timing = _Timing(opts.machine) if opts.timing else None
         self.segments, self.length = 0, 0.0
         self.windows = SpilledSegments()  # every window's tool path (the G-code writer's too)
+        self.keep = True  # False: no later stage reads the windows (they are only counted)
         # per window: its number of segments, of programmed segments, and its SAR moves
         self.cuts: list[tuple[int, int, list[Move]]] = []
         self.word_moves: list[Move] = []  # the reader's moves that carry words (the G-code writer's)
@@ -358,7 +360,8 @@ class _Run:
         if self.out is not None:
             assert not isinstance(programmed, int)
             self.out.programmed.add(programmed)
-        self.windows.append(buf)
+        if self.keep:
+            self.windows.append(buf)
         self.cuts.append((len(buf), count, [m for m in moves if m.sar is not None]))
         self.segments += len(buf)
         self.length += segments_length(buf)
@@ -368,7 +371,7 @@ class _Run:
         """Verify, time and write the windows in order."""
         chunks = self.windows.chunks()
         for n, programmed, sar_moves in self.cuts:
-            buf: list[Segment] = next(chunks) if n else []
+            buf: list[Segment] = next(chunks) if n and self.keep else []
             if self.verifier is not None:
                 self.verifier.add(programmed, buf, sar_moves)
             if not buf:
