@@ -10,15 +10,16 @@ chords, c = max(1, N·0.25 mm / (2π·30 mm)) so that chords stay about 0.25 mm 
 written as LinuxCNC G-code, without compensation (G40 CAM output) and with ``G41.1 D2``:
 the exact plan (read, compensate, verify) is the baseline measured in the same run; the corner
 stage alone (:func:`trcopt.optimize.corners.blend.blend_corners`, modes ``arc`` and ``optimal``,
-ε = 0.01 mm) gives the corners per second; every row runs in a fresh process whose peak resident
-memory (plan and corner stage) is reported; up to
-``--timing-up-to`` chords the acceleration-limited cycle times of both paths are added. The tool
+ε = 0.01 mm; the solvers and the strategy's modules imported before) gives the corners per
+second; every row runs in a fresh process whose peak resident memory (plan and corner stage) is
+reported; up to ``--timing-up-to`` chords the acceleration-limited cycle times of both paths are added. The tool
 enters and leaves from outside the contour (X = 50·c).
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
 import subprocess
 import sys
@@ -63,6 +64,10 @@ def row(chords: int, compensated: bool, with_timing: bool, mode: str = "arc") ->
     import clarabel  # noqa: F401  (imports outside the measurement)
     import scipy.interpolate  # noqa: F401
     import toppra  # noqa: F401
+
+    from trcopt.optimize.corners import strategies
+
+    importlib.import_module(strategies.get(mode).module)  # the strategy's modules (imported at first use)
 
     t0 = time.perf_counter()
     blended = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=0.01, mode=mode)

@@ -30,9 +30,12 @@ class QPResult:
     iterations: int
 
 
-def solve_qp(P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, max_iter: int = 200) -> QPResult:
+def solve_qp(
+    P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, max_iter: int = 200, refine: bool = True
+) -> QPResult:
     """The minimiser of ``½xᵀPx + qᵀx`` subject to ``lo ≤ Ax ≤ hi`` (``P`` symmetric positive
-    semidefinite, sparse or dense; infinite bounds are absent rows; ``lo == hi`` an equality)."""
+    semidefinite, sparse or dense; infinite bounds are absent rows; ``lo == hi`` an equality).
+    ``refine=False``: without Clarabel's iterative refinement of each KKT solve."""
     import clarabel
     from scipy import sparse
 
@@ -56,6 +59,7 @@ def solve_qp(P: Any, q: np.ndarray, A: Any, lo: np.ndarray, hi: np.ndarray, *, m
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.max_iter = max_iter
+    settings.iterative_refinement_enable = refine
     solver = clarabel.DefaultSolver(
         sparse.triu(sparse.csc_matrix(P), format="csc"), np.asarray(q, float), A_c, b, cones, settings
     )

@@ -11,7 +11,8 @@
 * :mod:`.boundary` — the exact cut boundary and the material a path leaves (:func:`cut_deviation`);
 * :mod:`.samples` — sample points and boxes of elements and paths for that measurement;
 * :mod:`.qp` — one corner as a G2 quintic problem (SQP of convex QPs);
-* :mod:`.chain` — one G2 cubic spline across a run of small CAM corners or a curvature jump;
+* :mod:`.chain` (with :mod:`.chain_geometry`, :mod:`.chain_spline`, :mod:`.chain_qp`) — one G2 cubic
+  spline across a run of small CAM corners or a curvature jump;
 * :mod:`.circular` — the largest same-ε circular blend at one corner;
 * :mod:`.assemble` — the new path from the transitions, fitted to the tolerance;
 * :mod:`.selection` — the fastest of G2, circular and a per-corner mix;

@@ -12,8 +12,9 @@ outside vertices (tangent joints): the spline replaces them with the chords arou
 convex stretch of CAM chords is no longer bound to circles of radius R.
 
 The spline is found by sequential convex programming, one QP per step (Clarabel, interior point:
-:func:`trcopt.optimize.convex.solve_qp`; the rows are built for all samples at once through a k-d
-tree of the samples, :mod:`.chain_geometry`, on the sparse B-spline bases of :mod:`.chain_spline`):
+:func:`~trcopt.optimize.corners.chain_qp.solve_step`; the rows are built for all samples at once
+through a k-d tree of the samples, :mod:`.chain_geometry`, on the sparse B-spline bases of
+:mod:`.chain_spline`):
 
 * objective: ∫|C″(s)|² ds over the reference arc length s of the exact path (the curvature, as
   the parametrisation stays close to unit speed);
@@ -30,9 +31,10 @@ tree of the samples, :mod:`.chain_geometry`, on the sparse B-spline bases of :mo
 
 Steps (each with a small proximal term and a penalty on sliding along the curve) repeat until the
 spline moves < 1 µm across itself, or < 5 µm with ∫κ² settled (at most MAX_STEPS); the knot spacing
-is at most a third of the length over which the sharpest corner of the run turns within ε. The
-result is accepted only if the dense-sampled clearance (≥ R, or the exact path's own) and offset
-≤ ε hold; the
+is at most a third of the length over which the sharpest corner of the run turns within ε (on a
+path without compensation: of the nearest corners, growing by a quarter of the distance from them,
+:func:`~trcopt.optimize.corners.chain_spline.breakpoints`). The result is accepted only if the
+dense-sampled clearance (≥ R, or the exact path's own) and offset ≤ ε hold; the
 caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.boundary.cut_deviation`)
 and tightens ε′ if it exceeds ε.
 
@@ -56,9 +58,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly
-from trcopt.optimize.convex import solve_qp
 from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
-from trcopt.optimize.corners.chain_spline import basis, pieces, ppoly, rows
+from trcopt.optimize.corners.chain_qp import solve_step
+from trcopt.optimize.corners.chain_spline import basis, breakpoints, pieces, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.path import Role
 from trcopt.verify.model import bbox
@@ -303,9 +305,21 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     h = min(knot_step, 0.5 * min(chords)) if chords else knot_step
     # a corner of deflection θ rounded within ε turns over about 8ε/θ (the circle of that sag):
     # three knot spans there
-    h = min(h, 8.0 * eps / (3.0 * max(site.max_turn, 1e-9)))
-    n_span = max(4, int(math.ceil(S / h)))
-    breaks = np.linspace(0.0, S, n_span + 1)
+    fine = min(h, 8.0 * eps / (3.0 * max(site.max_turn, 1e-9)))
+    R = site.radius
+    two_sided = R <= 0.0  # a path without compensation: no material side, no programmed contour
+    if two_sided and fine < h:
+        # the spans grow from 8ε/3θ at every corner of deflection θ (and the finest at the ends,
+        # where the G2 joins take the neighbours' curvature) to the coarse spacing between them
+        turns = np.abs([joint_turn(a, b) for a, b in zip(site.full[:-1], site.full[1:], strict=True)])
+        places = np.concatenate(([0.0], cum[1:-1], [S]))
+        spans = np.concatenate(([fine], 8.0 * eps / (3.0 * np.maximum(turns, 1e-300)), [fine]))
+        breaks = breakpoints(S, h, places, spans)
+    else:
+        # on a compensated run one spacing everywhere: its transition arcs and no-gouge half-planes
+        # need it between the corners too (spans graded as above left runs infeasible or slower)
+        breaks = np.linspace(0.0, S, max(4, int(math.ceil(S / fine))) + 1)
+    n_span = len(breaks) - 1
     knots = np.concatenate(([0.0] * 3, breaks, [S] * 3))
     n = n_span + 3
     # constraint samples and Gauss points of the objective (C″ is linear on a span: 2 points exact)
@@ -342,8 +356,6 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     A_eq = sparse.csr_matrix(np.array(eq_rows))
     b_eq = np.array(eq_val)
 
-    R = site.radius
-    two_sided = R <= 0.0  # a path without compensation: no material side, no programmed contour
     eps_t = eps * math.cos(0.5 * site.max_turn) * (1.0 - EPS_MARGIN)
     # an iterate stays within ε of the exact path and moves less than ε in a step: farther elements
     # cannot come within R
@@ -403,7 +415,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
         T = rows(B0s, np.arange(len(xs)), tan, n)
         P_step = (Pprox + SLIDE * h_scale * (T.T @ T)).tocsc()
-        res = solve_qp(P_step, Pm @ x_lin, A_s, np.concatenate([b_eq, *lo]) - ax, np.concatenate([b_eq, *hi]) - ax)
+        res = solve_step(P_step, Pm @ x_lin, A_s, np.concatenate([b_eq, *lo]) - ax, np.concatenate([b_eq, *hi]) - ax)
         if res.x is None:
             msg = f"qp: {res.status}"
             break

@@ -1,5 +1,7 @@
 """Cubic B-splines of the smoothing splines across runs of CAM chords, as sparse linear maps.
 
+* :func:`breakpoints` — the knot breakpoints of a run: fine where its corners turn sharply, coarser
+  away from them;
 * :func:`basis` — the sparse matrix of a derivative of the cubic B-spline basis at many points (the
   design matrix of the spline, times the sparse difference matrices of its derivatives);
 * :func:`rows` — constraint rows ``v·C(s)`` on the control points from rows of a basis;
@@ -9,6 +11,7 @@
 
 from __future__ import annotations
 
+import math
 from itertools import accumulate
 from typing import TYPE_CHECKING, Any
 
@@ -20,7 +23,35 @@ from trcopt.geometry.poly import CHORD_TOL_MM
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline
 
-__all__ = ["basis", "pieces", "ppoly", "rows"]
+__all__ = ["KNOT_GROWTH", "basis", "breakpoints", "pieces", "ppoly", "rows"]
+
+KNOT_GROWTH = 0.25  # a knot span is at most its need at a corner plus this times its distance from it
+
+
+def breakpoints(length: float, coarse: float, at: np.ndarray, need: np.ndarray) -> np.ndarray:
+    """Breakpoints from 0 to ``length`` (mm) whose spacing h(s) is at most ``coarse`` everywhere
+    and at most ``need[j] + KNOT_GROWTH·|s − at[j]|`` around every place ``at[j]`` (sorted, mm):
+    ⌈∫ds/h⌉ spans (at least 4) with ∫ds/h even over each; uniform where h is."""
+    at, need = np.asarray(at, float), np.minimum(np.asarray(need, float), coarse)
+    finest = float(need.min(initial=coarse))
+    if finest >= coarse:
+        return np.linspace(0.0, length, max(4, int(math.ceil(length / coarse))) + 1)
+    grid = np.linspace(0.0, length, int(math.ceil(4.0 * length / finest)) + 2)
+    # the lower envelope of the cones need[j] + g·|s − at[j]|: of the places left of every grid
+    # point, then of those right of it
+    g = KNOT_GROWTH
+    left = np.minimum.accumulate(need - g * at)
+    right = np.minimum.accumulate((need + g * at)[::-1])[::-1]
+    i = np.searchsorted(at, grid, side="right")
+    h = np.full(len(grid), coarse)
+    h = np.where(i > 0, np.minimum(h, g * grid + left[np.maximum(i - 1, 0)]), h)
+    h = np.where(i < len(at), np.minimum(h, right[np.minimum(i, len(at) - 1)] - g * grid), h)
+    inv = 1.0 / h
+    count = np.concatenate(([0.0], np.cumsum(0.5 * (inv[1:] + inv[:-1]) * np.diff(grid))))
+    spans = max(4, int(math.ceil(count[-1] - 1e-9)))
+    out = np.interp(np.linspace(0.0, count[-1], spans + 1), count, grid)
+    out[0], out[-1] = 0.0, length
+    return out
 
 
 def _derivative(knots: np.ndarray, k: int, n: int) -> Any:
@@ -49,17 +80,27 @@ def basis(knots: np.ndarray, x: np.ndarray, nu: int, n: int) -> Any:
 
 def rows(B: Any, m: np.ndarray, vecs: np.ndarray, n: int) -> Any:
     """Rows ``vecs[i]·C(s_m[i])`` of the spline's control points (x block, then y block), from the
-    rows ``m`` of the sparse basis ``B``."""
+    rows ``m`` of the sparse CSR basis ``B`` (built as CSR directly: each row holds its x entries,
+    then the same columns shifted by ``n``; indices sorted)."""
     from scipy import sparse
 
-    sub = B[m]
-    counts = np.diff(sub.indptr)
+    m = np.asarray(m, np.int64)
+    start, counts = B.indptr[m], np.diff(B.indptr)[m]
     r = np.repeat(np.arange(len(m)), counts)
-    vx = np.repeat(vecs[:, 0], counts)
-    vy = np.repeat(vecs[:, 1], counts)
-    data = np.concatenate((sub.data * vx, sub.data * vy))
-    cols = np.concatenate((sub.indices, sub.indices + n))
-    return sparse.csr_matrix((data, (np.concatenate((r, r)), cols)), shape=(len(m), 2 * n))
+    first = np.cumsum(counts) - counts  # where each row starts among the gathered entries
+    src = np.repeat(start - first, counts) + np.arange(int(counts.sum()))  # B's entries of the rows
+    data, cols = B.data[src], B.indices[src]
+    at = np.repeat(2 * first, counts) + (np.arange(len(src)) - np.repeat(first, counts))  # x entries
+    out_data = np.empty(2 * len(src))
+    out_cols = np.empty(2 * len(src), dtype=cols.dtype)
+    out_data[at], out_cols[at] = data * vecs[r, 0], cols
+    at += np.repeat(counts, counts)  # y entries after the row's x entries
+    out_data[at], out_cols[at] = data * vecs[r, 1], cols + n
+    indptr = np.concatenate(([0], 2 * np.cumsum(counts)))
+    out = sparse.csr_matrix((out_data, out_cols, indptr), shape=(len(m), 2 * n))
+    if not B.has_sorted_indices:
+        out.sort_indices()
+    return out
 
 
 _GL5_X, _GL5_W = np.polynomial.legendre.leggauss(5)
