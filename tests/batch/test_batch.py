@@ -99,6 +99,23 @@ def test_three_by_three_sweep_on_a_local_dask_cluster(tmp_path: Path, capsys) ->
                 "--out-dir", str(out_dir),
             ])
         ran_on_dask = [t for t in tasks.data if str(t["key"]).startswith("trcopt-")]
+        # interrupted after four rows, the fifth torn: the re-run on the cluster plans the five others
+        full = results.read_text()
+        lines = full.splitlines(keepends=True)
+        results.write_text("".join(lines[:5]) + lines[5][:25])
+        with distributed.get_task_stream(client) as again:
+            resumed = main([
+                "batch", str(sweep), "--results", str(results), "--scheduler", cluster.scheduler_address,
+                "--out-dir", str(out_dir), "-q",
+            ])
+        rerun = sorted(str(t["key"]) for t in again.data if str(t["key"]).startswith("trcopt-"))
+    assert resumed == 0 and rerun == sorted(f"trcopt-{ln.split(',')[0]}" for ln in lines[5:])
+    wall = COLUMNS.index("wall_time_s")
+
+    def rows_without_wall_time(text: str) -> list[list[str]]:
+        return sorted(r[:wall] + r[wall + 1 :] for r in csv.reader(text.splitlines()))
+
+    assert rows_without_wall_time(results.read_text()) == rows_without_wall_time(full)  # none twice, none lost
     assert status == 0, capsys.readouterr().err
     assert len(ran_on_dask) == 9  # every plan was a task of the cluster
     rows = json.loads(results.with_suffix(".json").read_text())["rows"]
@@ -213,3 +230,21 @@ def test_sweep_names_a_file_twice(tmp_path: Path) -> None:
     with pytest.raises(ConfigError):
         (tmp_path / "empty.toml").write_text("programs = []\n")
         load_sweep(tmp_path / "empty.toml")
+
+
+def test_a_fresh_run_that_cannot_reach_the_cluster_keeps_the_table(tmp_path: Path, monkeypatch, capsys) -> None:
+    distributed = pytest.importorskip("distributed")
+    sweep = _sweep(tmp_path)
+    assert main(["batch", str(sweep), "--workers", "1", "-q"]) == 0
+    table = tmp_path / "sweep-results.csv"
+    before = table.read_text()
+
+    class Unreachable:
+        def __init__(self, address: str, timeout: float = 0.0) -> None:
+            raise OSError(f"Timed out trying to connect to {address}")
+
+    monkeypatch.setattr(distributed, "Client", Unreachable)
+    assert main(["batch", str(sweep), "--fresh", "--scheduler", "tcp://127.0.0.1:1", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("trcopt: error IO: cannot reach the Dask scheduler") and "Traceback" not in err
+    assert table.read_text() == before  # the nine finished rows are still there

@@ -191,6 +191,31 @@ def test_one_error_form(tmp_path: Path, capsys) -> None:
     assert capsys.readouterr().err.startswith("trcopt: error USAGE: --csv/--png need the timing stage")
 
 
+def test_png_without_matplotlib_is_a_usage_error_before_the_plan(tmp_path: Path, monkeypatch, capsys) -> None:
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # not installed
+    _no_planning(monkeypatch)
+    assert main(["plan", str(GEAR), "--png", str(tmp_path / "s.png"), "--json", str(tmp_path / "p.json")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("trcopt: error USAGE: --png needs matplotlib") and "Traceback" not in err
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["plan", str(GEAR), "--tolerance", "-1"], "trcopt plan: argument --tolerance: must be a positive finite"),
+        (["plan", str(GEAR), "--no-such-option"], "trcopt: unrecognized arguments: --no-such-option"),
+        (["batch"], "trcopt batch: the following arguments are required: sweep"),
+    ],
+)
+def test_a_usage_error_has_the_one_error_form(argv: list[str], message: str, capsys) -> None:
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    last = capsys.readouterr().err.rstrip("\n").splitlines()[-1]
+    assert last.startswith("trcopt: error USAGE: ") and message in last
+
+
 def test_a_narrow_status_line_drops_the_outer_stage_names_first() -> None:
     names = ["planning a_very_long_program_name_from_a_cam_post.mpf", "corners (optimal)", "corner problems"]
     assert progress._fit(names, 200) == " › ".join(names)

@@ -145,6 +145,37 @@ def test_speed_plot_into_given_axes_writes_nothing(line_arc, tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+def test_the_speed_colours_span_the_cutting_moves_not_the_rapids():
+    path = [
+        Segment(Line((0, 0, 0), (60, 0, 0)), Plane.G17, Role.RAPID, SourceSpan("t.mpf", 2, 1, "N10"), None),
+        seg(Line((60, 0, 0), (60, 20, 0)), 20.0, "N20"),
+        seg(Line((60, 20, 0), (0, 20, 0)), 30.0, "N30"),
+    ]
+    traj = time_parameterize(path, ISO)
+    fig = plot_speed(traj)
+    coloured = [c for c in fig.axes[1].collections if c.get_array() is not None]
+    assert len(coloured) == 1
+    vmax = coloured[0].norm.vmax
+    assert 29.0 < vmax <= 30.0 + 1e-6  # the fastest cutting move, not the rapid (≈ 200 mm/s)
+    assert len(fig.axes[1].collections) == 2  # the rapid, grey
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_writing_a_speed_plot_keeps_the_backend_in_use(line_arc, tmp_path):
+    import matplotlib
+
+    before = matplotlib.get_backend()
+    try:
+        matplotlib.use("svg")  # a backend that is not Agg, as a notebook's inline one is not
+        plot_speed(line_arc, tmp_path / "speed.png")
+        assert matplotlib.get_backend() == "svg"
+    finally:
+        matplotlib.use(before)
+    assert (tmp_path / "speed.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_writers_load_no_plotting_or_numerical_library_on_import():
     code = (
         "import sys, trcopt.trajectory, trcopt.io.feed_csv, trcopt.io.plot; "

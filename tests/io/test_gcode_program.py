@@ -326,3 +326,117 @@ def test_the_linuxcnc_cam_post_program_replans_with_its_machine_moves(tmp_path: 
     assert again.ok, [d.format() for d in again.errors]
     assert _hausdorff(first.toolpath, again.toolpath) <= 1e-4
     assert _words(again) == _words(first)
+
+
+def test_the_linuxcnc_tool_length_offset_is_written_where_it_acts(tmp_path: Path) -> None:
+    """The tool-centre coordinates are the tool tip's: the program's G43 H…/G49 are written where
+    they act (a machine without them would run each tool its length too deep); its work systems
+    are comments, their offsets being in the coordinates already."""
+    folder = PROBLEMS / "rs274"
+    for name in ("rs274ngc.toml", "tools.tbl"):
+        (tmp_path / name).write_text((folder / name).read_text())
+    first = plan_file(folder / "cam_fusion_drill_profile.ngc", PlanOptions(timing=False))
+    text = plan_to_gcode(first, decimals=4)
+    codes = [c for c in (_code(ln) for ln in text.splitlines()) if c]
+    order = [c for c in codes if re.match(r"(T\d|G43|G49|G0 Z15\.0|M9)", c)]
+    assert order == [
+        "T2 M6", "G43 H2", "G0 Z15.0", "G0 Z15.0", "M9", "G49", "T1 M6", "G43 H1", "G0 Z15.0", "G0 Z15.0", "M9", "G49",
+    ]
+    assert not any(re.search(r"\bG5[4-9]\b", c) for c in codes)  # not a second shift
+    assert "(L15 work system G54: its offset is in the coordinates [those of the start's work system])" in text
+    assert "(L10 path control G64 P0.01: its rounding is in the tool-centre path)" in text
+    out = tmp_path / "out.ngc"
+    out.write_text(text)
+    again = plan_file(out, PlanOptions(timing=False, corners="exact"))
+    assert again.ok and _hausdorff(first.toolpath, again.toolpath) <= 1e-4
+    # written once more, the words are the same: none lost, none added
+    twice = [c for c in (_code(ln) for ln in plan_to_gcode(again, decimals=4).splitlines()) if c]
+    assert [c for c in twice if re.match(r"(T\d|G43|G49|M\d|S\d)", c)] == [
+        c for c in codes if re.match(r"(T\d|G43|G49|M\d|S\d)", c)
+    ]
+
+
+@pytest.mark.parametrize(
+    ("block", "words", "notes"),
+    [
+        ("g 4 3 h 2 (tool 2)", ["G43 H2"], []),
+        ("G43.1 Z-1.5", ["G43.1 Z-1.5"], []),
+        ("N20 G49 M5", ["G49"], []),
+        ("G43 H#1", [], ["tool length offset G43 with a computed value: not written, set it by hand"]),
+        ("G55 G0 X1", [], ["work system G55: its offset is in the coordinates (those of the start's work system)"]),
+        ("G92 X10", [], ["axis offset G92: its offset is in the coordinates"]),
+        ("G64 P0.02 Q0.01", ["G64 P0.02 Q0.01"], []),
+        ("(G43 H2 in a comment) G1 X1", [], []),
+        ("o100 if [#1 GT 43]", [], []),
+    ],
+)
+def test_the_words_the_linuxcnc_reader_resolves_are_read_from_the_block(block, words, notes) -> None:
+    from trcopt.io.ngc_source_words import source_words
+
+    assert source_words(block) == (words, notes)
+    if words:  # a word the reader kept itself is not added again
+        assert source_words(block, actions=(words[0],)) == (words[1:], notes)
+
+
+def test_a_plan_made_window_by_window_writes_the_tool_length_offset_too(tmp_path: Path) -> None:
+    from trcopt.cli import main
+
+    (tmp_path / "tools.tbl").write_text("T1 P1 D6.0 Z50 ;6 mm end mill\n")
+    prog = tmp_path / "p.ngc"
+    prog.write_text(
+        "G21 G90 G17\nG54\nT1 M6\nG43 H1\nS1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG1 Y10\nG49\nG0 Z50\nM2\n"
+    )
+    texts = {}
+    for mode in ("on", "off"):
+        out = tmp_path / f"{mode}.ngc"
+        assert main(["plan", str(prog), "--no-timing", "-q", "--stream", mode, "--gcode", str(out)]) == 0
+        texts[mode] = out.read_text()
+    assert texts["on"] == texts["off"]
+    codes = [c for c in (_code(ln) for ln in texts["on"].splitlines()) if c]
+    assert codes.index("T1 M6") < codes.index("G43 H1") < codes.index("G0 X0.0 Y0.0 Z5.0")
+    assert codes.index("G1 Y10.0") < codes.index("G49") < codes.index("G0 Z50.0")
+
+
+def test_the_text_is_scanned_for_those_words_only_in_a_program_without_o_word_flow() -> None:
+    from trcopt.io.ngc_source_words import resolved_lines
+
+    flat = ["G21", "T1 M6", "G43 H1 (length)", "G0 X0", "(G49 in a comment)", "G49", "G0 Z5 G55", "M2"]
+    assert resolved_lines(flat) == [3, 6, 7]
+    assert resolved_lines(flat, last=5) == [3]  # not after the alarm that stopped the program
+    assert resolved_lines([*flat[:4], "o1 if [#1 GT 0]", "G43 H2", "o1 endif", "M2"]) == []
+    assert resolved_lines([*flat, "G43 H3"]) == [3, 6, 7]  # not after the program end
+
+
+@pytest.mark.parametrize(
+    ("text", "dialect", "comments"),
+    [
+        ("(Drill1)", "rs274", ["Drill1"]),
+        ("G0 X1 (first) Y2 (second; still) ; the rest", "rs274", ["first", "second; still", "the rest"]),
+        ("(MSG, profile with T1)", "rs274", []),  # an active comment: the reader's message
+        ("(debug, #1)", "rs274", []),
+        ('N20 MSG("A;B") ; op 1', "siemens", ["op 1"]),
+        ("N30 G1 X1 ;", "siemens", []),
+        ("3 * - CONTOUR 80 X 50", "heidenhain", ["CONTOUR 80 X 50"]),
+        ("12 Q1 = 80 ; width", "heidenhain", ["width"]),
+        ("5 L X+1 R0 F100", "heidenhain", []),
+        ("; a comment of a dialect trcopt does not know", "toy", []),
+    ],
+)
+def test_the_comments_of_a_program_line(text: str, dialect: str, comments: list[str]) -> None:
+    from trcopt.io.program_comments import program_comments
+
+    assert program_comments(text, dialect) == comments
+
+
+def test_the_programs_comments_are_kept_at_their_place() -> None:
+    first = plan_file(PROBLEMS / "rs274" / "cam_fusion_drill_profile.ngc", PlanOptions(timing=False))
+    lines = plan_to_gcode(first, decimals=4).splitlines()
+    at = {ln: i for i, ln in enumerate(lines)}
+    assert at["(L12: Drill1)"] < at["T2 M6 (L13)"] < at["(L31: 2D Contour1)"] < at["(MSG, profile with T1)"]
+    assert at["(L4: T1  D=6. CR=0. - ZMIN=-5. - flat end mill)"] < at["(L12: Drill1)"]
+    assert not any("L32:" in ln for ln in lines)  # the message is written once, as a message
+    siemens = plan_to_gcode(_planned(CAM_SIEMENS, "cam.mpf")).splitlines()
+    assert siemens.index("; L1: CAM-post style program") < next(i for i, ln in enumerate(siemens) if "T3 M6" in ln)
+    # a comment after the last motion (after an alarm, after the end) is not written
+    tail = _planned("N10 G0 X0 Y0 Z5\nN20 G1 X10 F100\nN30 M30\n; after the end\n", "t.mpf")
+    assert "after the end" not in plan_to_gcode(tail)

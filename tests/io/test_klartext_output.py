@@ -94,3 +94,34 @@ def test_an_alarmed_program_ends_with_the_alarm_and_a_stop(tmp_path: Path, capsy
     blocks = out.read_text().splitlines()
     assert "HH-TOOL-RADIUS-TOO-LARGE" in blocks[-4] and blocks[-2].endswith("STOP")
     assert not any(re.search(r"\bM(2|30)\b", b) for b in blocks if not b.split(" ", 1)[1].startswith(";"))
+
+
+def test_every_klartext_move_that_starts_a_source_element_names_its_line(tmp_path: Path) -> None:
+    prog = PROBLEMS / "heidenhain" / "h26_cam_post.h"
+    (tmp_path / "tools.toml").write_text((PROBLEMS / "heidenhain" / "tools.toml").read_text())
+    here = tmp_path / prog.name
+    here.write_text(prog.read_text())
+    first = plan(here.read_text(), file=str(here), options=PlanOptions(timing=False))
+    out = plan_to_klartext(first, decimals=4, program_name=prog.name)
+    source = prog.read_text().splitlines()
+    body = [b.split(" ", 1)[1] for b in out.splitlines()]
+    moves = [b for b in body if b.startswith(("L ", "C ", "CP ", "TOOL CALL"))]
+    named = [re.search(r" ; (\d+) L(\d+) ?(\w*)$", b) for b in moves]
+    assert all(named), [b for b, m in zip(moves, named, strict=True) if not m]  # each piece is one element here
+    for m in named:
+        block, line = m.group(1), int(m.group(2))
+        assert source[line - 1].split()[0] == block  # the Klartext block number on that line
+    assert "TOOL CALL 3 Z S8000 ; 4 L5" in body
+    assert "L Z+50 R0 FMAX M3 ; 5 L6 rapid" in body  # the M function before the comment
+
+
+def test_a_heidenhain_program_written_to_a_h_file_is_klartext_by_default(tmp_path: Path) -> None:
+    heidenhain, siemens = PROBLEMS / "heidenhain" / "h04_appr_dep_lt.h", PROBLEMS / "siemens" / "ex02_square_g450.mpf"
+    for prog, out in ((heidenhain, "a.h"), (heidenhain, "a.nc"), (siemens, "b.h")):
+        assert main(["plan", str(prog), "--no-timing", "-q", "--gcode", str(tmp_path / out)]) == 0
+    assert (tmp_path / "a.h").read_text().startswith("0 BEGIN PGM H04_APPR_DEP_LT MM\n")
+    assert (tmp_path / "a.nc").read_text().startswith("; trcopt tool-centre path")  # ISO, as asked by the name
+    assert (tmp_path / "b.h").read_text().startswith("; trcopt tool-centre path")  # not a Heidenhain program
+    assert main(["plan", str(heidenhain), "--no-timing", "-q", "--gcode", str(tmp_path / "c.h"),
+                 "--gcode-flavor", "heidenhain"]) == 0  # fmt: skip
+    assert (tmp_path / "c.h").read_text().startswith("; trcopt tool-centre path")  # the flavour given wins

@@ -96,31 +96,33 @@ def _local(works: list[Work], workers: int) -> Iterator[tuple[Work, Callable[[],
     pool.shutdown()
 
 
-def _dask(works: list[Work], scheduler: Any) -> Iterator[tuple[Work, Callable[[], Result]]]:
-    """(work, result getter) in completion order on the Dask cluster at ``scheduler`` (an address
-    or a ``distributed.Client``)."""
+def _connect(scheduler: Any) -> Any:
+    """A ``distributed.Client`` of the cluster at ``scheduler`` (an address; a client as it is)."""
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:
         raise TrcoptError(
             "--scheduler needs dask.distributed: pip install 'trcopt[dask]'", code=Code.USAGE
         ) from None
-    own = not isinstance(scheduler, Client)
+    if isinstance(scheduler, Client):
+        return scheduler
     try:
-        client = Client(scheduler, timeout=30) if own else scheduler
+        return Client(scheduler, timeout=30)
     except (OSError, TimeoutError) as exc:
         raise TrcoptError(f"cannot reach the Dask scheduler at {scheduler}: {exc}", code=Code.IO) from None
+
+
+def _dask(works: list[Work], client: Any) -> Iterator[tuple[Work, Callable[[], Result]]]:
+    """(work, result getter) in completion order on the Dask cluster of ``client``."""
+    from distributed import as_completed
+
+    futures = client.map(run_job, works, pure=False, key=[f"trcopt-{w.job.key}" for w in works])
+    by_key = {f.key: w for f, w in zip(futures, works, strict=True)}
     try:
-        futures = client.map(run_job, works, pure=False, key=[f"trcopt-{w.job.key}" for w in works])
-        by_key = {f.key: w for f, w in zip(futures, works, strict=True)}
-        try:
-            for fut in as_completed(futures):
-                yield by_key[fut.key], fut.result
-        finally:
-            client.cancel(futures)
+        for fut in as_completed(futures):
+            yield by_key[fut.key], fut.result
     finally:
-        if own:
-            client.close()
+        client.cancel(futures)
 
 
 def run_batch(
@@ -159,6 +161,22 @@ def run_batch(
         raise TrcoptError("--parquet needs pyarrow (pip install pyarrow)", code=Code.USAGE)
     if sweep.outputs and out_dir is None:
         raise TrcoptError("the sweep asks for outputs: give an output folder (--out-dir)", code=Code.USAGE)
+    # the cluster is reached before the table is touched: a --fresh run that cannot reach it
+    # leaves the table as it was
+    client = _connect(scheduler) if scheduler is not None else None
+    try:
+        return _run(sweep, table, workers, client, out_dir, json_path, parquet_path, fresh, retry_failed, on_row)
+    finally:
+        if client is not None and client is not scheduler:
+            client.close()
+
+
+def _run(
+    sweep: Sweep, table: str | os.PathLike[str], workers: int, client: Any, out_dir: str | os.PathLike[str] | None,
+    json_path: str | os.PathLike[str] | None, parquet_path: str | os.PathLike[str] | None, fresh: bool,
+    retry_failed: bool, on_row: Callable[[dict[str, Any]], None] | None,
+) -> BatchReport:
+    """:func:`run_batch` with the cluster's client (None: local processes) and its checks done."""
     results = ResultsTable(table, fresh=fresh)
     if retry_failed:
         results.rows = [r for r in results.rows if r["exit_status"] != 2]
@@ -168,7 +186,7 @@ def run_batch(
     report.skipped = [j.key for j in sweep.jobs if j.key in done]
     with results, stage("plans", len(todo)) as advance:
         works = [_work(j, sweep.outputs) for j in todo]
-        stream = _dask(works, scheduler) if scheduler is not None else _local(works, workers)
+        stream = _dask(works, client) if client is not None else _local(works, workers)
         for work, get in stream:
             try:
                 row, outputs = get()

@@ -47,8 +47,9 @@ COMMANDS: dict[str, Command] = {
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> None:  # type: ignore[override]  # usage errors → exit 2, one line
+        # the usage, then the error line in the one form of every error (``trcopt: error USAGE: …``)
         self.print_usage(sys.stderr)
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+        self.exit(EXIT_USAGE, f"trcopt: error USAGE: {self.prog}: {message}\n")
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:

@@ -67,7 +67,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--gcode-flavor", default=None,
         choices=sorted({*controllers.names(), *controllers.dialects(), *OUTPUT_FLAVORS, "klartext"}),
         help="G-code flavour of a controller, grbl (plain ISO) or klartext (Heidenhain conversational, for "
-        "Heidenhain programs); default: the reading controller's",
+        "Heidenhain programs); default: the reading controller's, klartext for a Heidenhain program written to .h",
     )
     p.add_argument("--decimals", type=int, default=4, help="decimals in the written G-code (default 4)")
     p.add_argument("--svg", metavar="F", help="write an SVG picture of both paths")
@@ -178,6 +178,20 @@ def _workers(text: str) -> int:
     return value or os.cpu_count() or 1
 
 
+def _suffix(path: str) -> str:
+    return Path(path).suffix.lower()
+
+
+def _importable(module: str) -> bool:
+    """Whether the optional ``module`` can be imported (checked before the work starts)."""
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec(module) is not None
+    except (ImportError, ValueError):
+        return False
+
+
 def _print_diagnostics(result: PlanResult) -> None:
     for d in result.diagnostics:
         stream = sys.stderr if d.severity is Severity.ERROR else sys.stdout
@@ -210,16 +224,26 @@ def run_plan(args: argparse.Namespace) -> int:
     if (args.csv or args.png) and args.no_timing:
         err("--csv/--png need the timing stage (drop --no-timing)")
         return EXIT_USAGE
+    if args.png and not _importable("matplotlib"):
+        err("--png needs matplotlib: pip install 'trcopt[plot]'")
+        return EXIT_USAGE
     # every output path is checked before the work starts
     problem = check_outputs([args.json, args.gcode, args.svg, args.html, args.csv, args.png], inputs=[args.program])
     if problem:
         err(problem, code="OUTPUT")
         return EXIT_USAGE
     opts = _options(args)
+    # a Heidenhain program written to a .h file: the conversational program a TNC runs (a .h file
+    # is Klartext there; the ISO flavour's I/J would be read as absolute centres by a TNC's DIN/ISO)
+    auto_klartext = args.gcode_flavor is None and bool(args.gcode) and _suffix(args.gcode) == ".h"
+    if auto_klartext and _suffix(args.program) == ".h":
+        args.gcode_flavor = "klartext"
     result = _streamed(args, opts) or _plan_with_progress(args, opts)
     _print_diagnostics(result)
     if not args.quiet:
         print(result.summary())
+    if auto_klartext:
+        args.gcode_flavor = "klartext" if result.dialect == "heidenhain" else None
     if args.gcode_flavor == "klartext":
         flavor, flavor_dialect = controllers.get("heidenhain").gcode, "heidenhain"
     elif args.gcode_flavor in OUTPUT_FLAVORS:

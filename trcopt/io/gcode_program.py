@@ -14,6 +14,9 @@ non-motion words, its units, its alarm and its omitted blocks.
   their rounding is already in the tool-centre path; the program end (``M30``/``M2``/``RET``) is
   the flavour's end word. Words another flavour cannot read (``$TC_DP…`` in LinuxCNC output) are
   kept as comments; ``MSG("…")`` becomes LinuxCNC's ``(MSG, …)`` and a dwell's time its ``P``.
+  Of a LinuxCNC program also the words its reader resolves (:mod:`trcopt.io.ngc_source_words`:
+  the tool length offset written, work systems and axis offsets as comments);
+* the program's own comments at their lines (:mod:`trcopt.io.program_comments`), up to its last motion;
 * no motion the program did not command: the first motion starts where the program's first
   motion starts, and an axis the program has not moved or named yet is not written;
 * the program's units: a program in inch (SINUMERIK ``G70``/``G700``, RS274 ``G20``, Heidenhain
@@ -34,10 +37,12 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from trcopt.codes import Code, family
-from trcopt.errors import Diagnostic, Severity
+from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
 from trcopt.io.gcode import MAX_DECIMALS, GcodeFlavor, _round, open_writer, write_segment
+from trcopt.io.ngc_source_words import resolved_lines, source_words
+from trcopt.io.program_comments import program_comments
 from trcopt.io.spill import SpilledSegments
 from trcopt.path import Segment
 from trcopt.textlines import TextLines
@@ -127,6 +132,7 @@ class _Group:
     before: list[str] = field(default_factory=list)
     after: list[str] = field(default_factory=list)
     comments: list[str] = field(default_factory=list)
+    remarks: list[str] = field(default_factory=list)  # the program's own comments on the line
 
     @property
     def source(self) -> str:
@@ -201,23 +207,49 @@ def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[str]) 
     # the moves' actions and the words of blocks a reader keeps without a move (Heidenhain TOOL CALL)
     blocks = [(m.span, m.actions) for m in result.nc.moves]
     blocks += list(result.nc.extras.get("words", ()))  # type: ignore[call-overload]
+    if result.dialect == "rs274":
+        # the blocks with words the reader resolves, found in the text as well (a program without
+        # o-word flow runs every line up to its end or alarm): a plan made window by window keeps
+        # only the moves with words, and a block that raised the alarm has none
+        alarm = _stop(result)
+        last = alarm.span.line if alarm is not None and alarm.span.file == result.nc.file else None
+        have = {span.line for span, _ in blocks}
+        blocks += [(SourceSpan(result.nc.file, n), ()) for n in resolved_lines(lines, last) if n not in have]
+    read: set[int] = set()  # the lines whose text was read for the words the reader resolves
     for span, actions in sorted(blocks, key=lambda b: b[0].line):
+        notes: list[str] = []
+        if result.dialect == "rs274" and span.line not in read and span.file == result.nc.file:
+            read.add(span.line)
+            actions, notes = _with_source_words(actions, span.line, lines)
         words = kept_words(actions)
         dropped = [a for a in actions if _PATH_CONTROL.match(a.strip())]
-        if not words and not dropped:
+        if not words and not dropped and not notes:
             continue
         g = group(span.line, span.block)
         source_line = lines[span.line - 1] if 0 < span.line <= len(lines) else ""
         kept, comments = _translate(words, same, flavor, source_line)
         g.before += [w for w in kept if w.upper() not in _AT_BLOCK_END]
         g.after += [w for w in kept if w.upper() in _AT_BLOCK_END]
-        g.comments += comments
+        g.comments += notes + comments
         if dropped:
             g.comments.append("path control " + " ".join(dropped) + ": its rounding is in the tool-centre path")
     for d in result.diagnostics:
         if d.code == Code.ALARM_10763 and d.span.line:
             group(d.span.line, d.span.block).comments.append(f"omitted block, {d.format()}")
+    for n, text in enumerate(lines, 1):  # the program's comments, at their lines
+        remarks = program_comments(text, result.dialect)
+        if remarks:
+            group(n, by_line[n].block if n in by_line else None).remarks += remarks
     return sorted(by_line.values(), key=lambda g: g.line)
+
+
+def _with_source_words(actions: Any, line: int, lines: Sequence[str]) -> tuple[tuple[str, ...], list[str]]:
+    """The actions of the first move of an RS274NGC ``line`` with the words its reader resolves
+    (:func:`trcopt.io.ngc_source_words.source_words`), and the comments on the others."""
+    if not 0 < line <= len(lines):
+        return tuple(actions), []
+    add, notes = source_words(lines[line - 1], actions)
+    return (*add, *actions), notes
 
 
 def _write_machine(w: Any, seg: Segment, flavor: GcodeFlavor, k: float) -> None:
@@ -248,12 +280,20 @@ def _in_run_order(result: Any) -> bool:
 def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[str]) -> list[tuple[Any, _Group]]:
     """The words of every move in the order the moves run (one group per move)."""
     out = []
+    previous = None
     for m in result.nc.moves:
         g = _Group(m.span.line, m.span.block)
-        words = kept_words(m.actions)
-        dropped = [a for a in m.actions if _PATH_CONTROL.match(a.strip())]
+        actions, notes = m.actions, []
+        here = m.span.file == result.nc.file and 0 < m.span.line <= len(lines)
+        if result.dialect == "rs274" and here and m.span != previous:  # the first move of a block run
+            actions, notes = _with_source_words(actions, m.span.line, lines)
+        if here and m.span != previous:
+            g.remarks += program_comments(lines[m.span.line - 1], result.dialect)
+        previous = m.span
+        words = kept_words(actions)
+        dropped = [a for a in actions if _PATH_CONTROL.match(a.strip())]
+        g.comments += notes
         if words or dropped:
-            here = m.span.file == result.nc.file and 0 < m.span.line <= len(lines)
             kept, comments = _translate(words, same, flavor, lines[m.span.line - 1] if here else "")
             g.before += [w for w in kept if w.upper() not in _AT_BLOCK_END]
             g.after += [w for w in kept if w.upper() in _AT_BLOCK_END]
@@ -399,6 +439,8 @@ def plan_to_gcode_chunks(
     written, yielded = 0, False
 
     def flush(g: _Group, before: bool, after: bool) -> None:
+        for text in g.remarks if before else ():
+            w.lines.append(w.comment(f"{g.source}: {text}"))
         for text in g.comments if before else ():
             # a LinuxCNC message is a comment starting with "MSG,"
             w.lines.append(w.comment(text if text.startswith("MSG,") else f"{g.source} {text}"))
@@ -435,7 +477,8 @@ def plan_to_gcode_chunks(
     w.programmed = frozenset()
     if current is not None:
         flush(current, False, True)
-    for g in pending:
+    for g in pending:  # the lines after the last motion: their words, not their comments
+        g.remarks = []
         flush(g, True, True)
     alarm = _stop(result)
     if alarm is None:

@@ -16,6 +16,9 @@ writer's after-rounding consistency and the program's words their places):
 * the program's flow (``LBL``, ``CALL LBL``, ``FN``, Q parameters), its coordinate transformations
   (``CYCL DEF 7/8/10/11/26``) and its path-control tolerance (``CYCL DEF 32``) are already in the
   path: not written again;
+* every move that starts a source element names it in a comment at the block end
+  (``L X+10 R0 F800 ; 24 L25 approach``: the source block number, its line and the element's role),
+  as the ISO writer does; the further pieces of one element follow it without one;
 * a program stopped by an alarm ends with a comment naming it and a ``STOP`` block.
 """
 
@@ -53,17 +56,28 @@ def _num(axis: str, value: float, decimals: int) -> str:
 class _Out:
     def __init__(self, decimals: int) -> None:
         self.blocks: list[str] = []
+        self.notes: dict[int, str] = {}  # block index → the comment at its end (the source it comes from)
         self.decimals = decimals
         self.pending: list[str] = []  # M functions for the next move
         self.last_move: int | None = None  # index of the last move block
 
-    def add(self, text: str, move: bool = False) -> None:
+    def add(self, text: str, move: bool = False, note: str = "") -> None:
         if move and self.pending:
             text = f"{text} {' '.join(self.pending)}"
             self.pending = []
         self.blocks.append(text)
+        if note:
+            self.notes[len(self.blocks) - 1] = note
         if move:
             self.last_move = len(self.blocks) - 1
+
+    def text(self) -> str:
+        """The numbered blocks, each with its comment at the end."""
+        lines = []
+        for i, block in enumerate(self.blocks):
+            note = self.notes.get(i)
+            lines.append(f"{i} {block}" + (f" ; {note}" if note else ""))
+        return "\n".join(lines) + "\n"
 
     def m_word(self, word: str) -> None:
         if word.upper() in _AT_END and self.last_move is not None:
@@ -115,14 +129,14 @@ def plan_to_klartext(result: Any, *, decimals: int = 4, program_name: str = "PGM
             continue
         # the ISO writer may give an arc more digits, so that it reads back consistently: keep them
         digits = max([decimals] + [len(v.partition(".")[2]) for _, v in words if v is not None and "." in v])
-        _move(out, motion, letters, pos, plane, digits)
+        _move(out, motion, letters, pos, plane, digits, note)
     if not ended and out.pending:
         out.add("STOP " + " ".join(out.pending))
         out.pending = []
     if not ended:
         out.add("STOP")
     out.add(f"END PGM {name} {unit}")
-    return "\n".join(f"{i} {b}" for i, b in enumerate(out.blocks)) + "\n"
+    return out.text()
 
 
 def _body(line: str) -> str:
@@ -161,17 +175,19 @@ def _words_block(
         rest.append(f"{k}{v or ''}")
     if st is not None and line not in copied:
         copied.add(line)
-        out.add(_body(text))
+        out.add(_body(text), note=note)
     if rest:
         out.add(f"; not written in Klartext: {' '.join(rest)} ({note})")
 
 
-def _move(out: _Out, motion: str, w: dict[str, str | None], pos: dict[str, float], plane: str, d: int) -> None:
+def _move(
+    out: _Out, motion: str, w: dict[str, str | None], pos: dict[str, float], plane: str, d: int, note: str = ""
+) -> None:
     feed = "FMAX" if motion == "G0" else (f"F{float(w['F']):g}" if w.get("F") else "")
     end = {a: float(w[a]) for a in "XYZ" if w.get(a) is not None}
     if motion in ("G0", "G1"):
         coords = " ".join(_num(a, end[a], d) for a in "XYZ" if a in end)
-        out.add(" ".join(x for x in ("L", coords, "R0", feed) if x), move=True)
+        out.add(" ".join(x for x in ("L", coords, "R0", feed) if x), move=True, note=note)
         pos.update(end)
         return
     u, v, axis = _PLANE_AXES[plane]
@@ -193,9 +209,9 @@ def _move(out: _Out, motion: str, w: dict[str, str | None], pos: dict[str, float
         else:
             sweep = -((-sweep) % 360.0 or 360.0)
         ipa = f"IPA{'+' if sweep >= 0 else '-'}{abs(sweep):.{max(d, 4)}f}".rstrip("0").rstrip(".")
-        out.add(" ".join(x for x in ("CP", ipa, "I" + _num(axis, dz, d), sense, "R0", feed) if x), move=True)
+        out.add(" ".join(x for x in ("CP", ipa, "I" + _num(axis, dz, d), sense, "R0", feed) if x), move=True, note=note)
     else:
         target = {u: eu, v: ev}
         coords = " ".join(_num(a, target[a], d) for a in "XYZ" if a in target)
-        out.add(" ".join(x for x in ("C", coords, sense, "R0", feed) if x), move=True)
+        out.add(" ".join(x for x in ("C", coords, sense, "R0", feed) if x), move=True, note=note)
     pos.update(end)

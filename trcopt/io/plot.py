@@ -104,10 +104,8 @@ def plot_speed(trajectory: Trajectory, path: str | os.PathLike[str] | None = Non
     OutputError
         The picture cannot be written; an existing file at ``path`` is left untouched.
     """
-    import matplotlib
-
-    if path is not None:
-        matplotlib.use("Agg", force=False)
+    # the backend in use is kept (a notebook's inline backend still shows its figures after a
+    # picture was written); savefig renders with any backend, and matplotlib picks Agg without a display
     import matplotlib.pyplot as plt
     import numpy as np
     from matplotlib.collections import LineCollection
@@ -129,13 +127,21 @@ def plot_speed(trajectory: Trajectory, path: str | os.PathLike[str] | None = Non
         ax0.legend(loc="best")
         pts = smp.xyz[:, :2]
         pieces = np.stack((pts[:-1], pts[1:]), axis=1)
-        lc = LineCollection(list(pieces), array=smp.speed[:-1], cmap="viridis", linewidths=2)
+        # the colour scale spans the cutting moves; rapids (drawn grey, dashed) would squash it
+        rapid = np.array([s.is_rapid for s in trajectory.segments], dtype=bool)[smp.segment[:-1]]
+        cut = ~rapid if (~rapid).any() else np.ones_like(rapid)
+        speed = smp.speed[:-1]
+        lc = LineCollection(list(pieces[cut]), array=speed[cut], cmap="viridis", linewidths=2)
+        lc.set_clim(0.0, max(float(speed[cut].max()), 1e-9))
         ax1.add_collection(lc)
+        if (rapid & ~cut).any():
+            ax1.add_collection(LineCollection(list(pieces[rapid]), colors="0.6", linewidths=0.8, linestyles="--"))
         ax1.autoscale()
         ax1.set_aspect("equal")
         ax1.set_xlabel("X [mm]")
         ax1.set_ylabel("Y [mm]")
-        fig.colorbar(lc, ax=ax1, label="speed [mm/s]")
+        label = "speed [mm/s]" + (" (rapids grey)" if (rapid & ~cut).any() else "")
+        fig.colorbar(lc, ax=ax1, label=label)
         ax1.set_title("speed over the path")
     if path is not None:
         dest, picture = _render(fig, path)
