@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import re
 from array import array
+from bisect import bisect_right
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -75,6 +76,10 @@ class TextLines(Sequence[str]):
         if not 0 <= i < self._n:
             raise IndexError(i)
         return self.text[self._starts[i] : self._starts[i + 1] - 1 - self._long[i]]
+
+    def index_of(self, offset: int) -> int:
+        """The index of the line at character ``offset`` of the text (a line end belongs to its line)."""
+        return bisect_right(self._starts, offset, 0, self._n) - 1
 
 
 def iter_lines(text: str) -> Iterator[str]:

@@ -3,8 +3,9 @@
 A reader that can run block by block (:attr:`trcopt.controllers.base.Controller.stream`) gives
 its moves one at a time, so a program of a million blocks is never held as a list of moves; the
 range check of :func:`trcopt.nc.limits.check_moves` is applied to each move as it passes (the
-stream stops at the first move out of range, with its ``NC-RANGE`` error, and the diagnostics of
-later blocks are dropped as ``check_moves`` drops them). When the stream is exhausted,
+stream stops at the first move out of range, with its ``NC-RANGE`` error; the reader still runs to
+the program's end for its block count and extras, and the diagnostics of later blocks are dropped
+as ``check_moves`` drops them). When the stream is exhausted,
 :attr:`MoveStream.program` is the :class:`~trcopt.nc.model.NcProgram` the reader would have
 returned, without its moves.
 """
@@ -63,9 +64,8 @@ class MoveStream(Iterator[Move]):
             if problem is None:
                 return move
             self._range = Diagnostic(Severity.ERROR, Code.NC_RANGE, problem, move.span)
-            close = getattr(self._moves, "close", None)
-            if close is not None:
-                close()
+            for _ in self._moves:  # the reader runs to its end, as read_program's does (blocks, extras)
+                pass
         self._end()
         raise StopIteration
 

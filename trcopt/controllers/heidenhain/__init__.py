@@ -11,7 +11,7 @@ from trcopt.config import TrcSettings
 from trcopt.controllers.base import Controller
 from trcopt.controllers.heidenhain.m120 import compensate_heidenhain
 from trcopt.controllers.heidenhain.profile import HEIDENHAIN
-from trcopt.controllers.heidenhain.reader import read_klartext
+from trcopt.controllers.heidenhain.reader import read_klartext, stream_klartext
 from trcopt.errors import Diagnostic
 from trcopt.io.gcode import GcodeFlavor
 from trcopt.nc.model import Move
@@ -45,4 +45,5 @@ CONTROLLER = Controller(
         end="M30",
     ),
     recognise=lambda text: _BEGIN_PGM.search(text) is not None,
+    stream=stream_klartext,
 )

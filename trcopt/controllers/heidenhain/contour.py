@@ -34,6 +34,7 @@ __all__ = [
     "apply_rnd",
     "apply_chf",
     "radius_too_large",
+    "RegionCheck",
     "TOOL_RADIUS_TOO_LARGE",
 ]
 
@@ -221,40 +222,94 @@ def radius_too_large(region: list[Elem]) -> tuple[int, str] | None:
     ``region`` are the compensated elements after the selection line (contour and lead arcs), in
     order; returns (index, detail) or None. Outside corners get the transition arc (λ unchanged),
     M97 in the block ending at an outside corner and every inside corner use the intersection of
-    the two offsets nearest the corner (spec §6.4).
+    the two offsets nearest the corner (spec §6.4). :class:`RegionCheck` one element at a time.
     """
-    if not region:
-        return None
-    offs = []
+    check = RegionCheck()
     for k, e in enumerate(region):
+        check.add(e, k)
+        if check.arc is not None:
+            break
+    check.end()
+    return check.found
+
+
+class RegionCheck:
+    """:func:`radius_too_large` with the region's elements given one at a time (:meth:`add`, in
+    order, each with its place ``at``; then :meth:`end`): the same answer as ``(at, detail)``.
+
+    The problems are looked for in the function's order — a compensated arc whose tool-centre
+    radius is not positive anywhere in the region (``arc``: the answer as soon as it is found),
+    else the first joint whose offsets do not intersect (``gap``), else the first element whose
+    tool-centre path runs backwards (``back``) — so that a region read block by block gives the
+    answer of the whole region; :attr:`open_from` is the first place the answer can still be.
+    """
+
+    __slots__ = ("arc", "gap", "back", "_prev", "_last")
+
+    def __init__(self) -> None:
+        self.arc: tuple[int, str] | None = None
+        self.gap: tuple[int, str] | None = None
+        self.back: tuple[int, str] | None = None
+        # the last element: it, its geometry and offset, its λ at the start (lo) and its place
+        self._prev: tuple[Elem, Line | Arc, Line | Arc, float, int] | None = None
+        self._last: int | None = None  # the place of the last element added
+
+    @property
+    def found(self) -> tuple[int, str] | None:
+        """The answer so far: final once :meth:`end` ran, or once ``arc`` is found."""
+        return self.arc or self.gap or self.back
+
+    @property
+    def open_from(self) -> int | None:
+        """The first place a problem can still be found at (the last element's: the joint after
+        it is not known yet; an earlier problem's, which a later one may outrank); None before
+        the first element."""
+        if self.arc is not None:
+            return self.arc[0]
+        first = self._last
+        for problem in (self.gap, self.back):
+            if problem is not None and (first is None or problem[0] < first):
+                first = problem[0]
+        return first
+
+    def add(self, e: Elem, at: int) -> None:
+        """The next element of the region, at place ``at``."""
+        self._last = at
+        if self.arc is not None:
+            return
         g = e.geometry()
         off = g.offset(e.side.sign * e.radius)
         if isinstance(off, Arc) and off.radius <= 1e-9:
-            return (
-                k,
-                f"tool-centre radius {off.radius:.4f} mm of the compensated arc is not positive",
-            )
-        offs.append((g, off))
-    lo = [0.0] * len(region)
-    hi = [1.0] * len(region)
-    for k in range(len(region) - 1):
-        (ga, oa), (gb, ob) = offs[k], offs[k + 1]
-        s = region[k].side.sign
-        ta, tb = ga.end_tangent(), gb.start_tangent()
-        gap = vec.dist(oa.point2(1.0), ob.point2(0.0))
-        if gap <= 1e-6 and vec.dot(ta, tb) > 0:
-            continue
-        delta = vec.deflection(ta, tb)
-        outside = abs(delta) >= math.pi - 1e-12 or s * delta < 0
-        if outside and not region[k].m97:
-            continue
-        corner = _uv(region[k].end)
-        hits = intersections(oa, ob, 1e-9)
-        if not hits:
-            return k + 1, "the offsets of the adjacent elements do not intersect"
-        h = min(hits, key=lambda h: vec.dist(h.point, corner))
-        hi[k], lo[k + 1] = h.lam_a, h.lam_b
-    for k in range(len(region)):
-        if hi[k] < lo[k] - _EPS:
-            return k, "the tool-centre path of this element would run backwards"
-    return None
+            self.arc = (at, f"tool-centre radius {off.radius:.4f} mm of the compensated arc is not positive")
+            return
+        lo = 0.0
+        prev = self._prev
+        if prev is not None and self.gap is None:
+            a, ga, oa, lo_a, at_a = prev
+            hi_a = 1.0
+            ta, tb = ga.end_tangent(), g.start_tangent()
+            gap = vec.dist(oa.point2(1.0), off.point2(0.0))
+            if not (gap <= 1e-6 and vec.dot(ta, tb) > 0):
+                delta = vec.deflection(ta, tb)
+                outside = abs(delta) >= math.pi - 1e-12 or a.side.sign * delta < 0
+                if not outside or a.m97:
+                    corner = _uv(a.end)
+                    hits = intersections(oa, off, 1e-9)
+                    if not hits:
+                        self.gap = (at, "the offsets of the adjacent elements do not intersect")
+                    else:
+                        h = min(hits, key=lambda h: vec.dist(h.point, corner))
+                        hi_a, lo = h.lam_a, h.lam_b
+            if self.gap is None and self.back is None and hi_a < lo_a - _EPS:
+                self.back = (at_a, _BACKWARDS)
+        self._prev = (e, g, off, lo, at)
+
+    def end(self) -> None:
+        """The region has no more elements: the last one's path ends at λ = 1."""
+        prev = self._prev
+        if self.found is None and prev is not None and 1.0 < prev[3] - _EPS:
+            self.back = (prev[4], _BACKWARDS)
+        self._prev = None
+
+
+_BACKWARDS = "the tool-centre path of this element would run backwards"

@@ -20,12 +20,16 @@ executed blocks (default 1 000 000): a program that does not end within them sto
 ``HH-LOOP-LIMIT`` at the block where the limit is reached.
 A jump or call to a label that is not in the program, a label defined twice and ``LBL 0`` outside
 a call are ``HH-LABEL``; a missing program file ``HH-PGM-MISSING``.
+
+A program read block by block (``output`` set) is not lexed before it runs: its lines are lexed as
+they run (the last few kept), and only the lines with ``LBL`` in them are lexed first, for the labels.
 """
 
 from __future__ import annotations
 
 import os
 import re
+from collections.abc import Callable, Generator, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,11 +42,15 @@ from trcopt.controllers.heidenhain.qparams import OPERAND, Q_REF, QError, eval_f
 from trcopt.controllers.heidenhain.state import BlockError
 from trcopt.errors import SourceSpan, TrcoptError
 from trcopt.modes import Side
+from trcopt.nc.model import Move
+from trcopt.nc.ondemand import OnDemand, lines_matching
 from trcopt.nc.text import decode_program, program_lines
+from trcopt.textlines import TextLines
 
 __all__ = ["FlowBlocks", "MAX_DEPTH"]
 
 MAX_DEPTH = 8  # nested CALL LBL / CALL PGM (trcopt's limit)
+_RELEASE = 512  # elements (read block by block) given as moves together: a few at a time run slower
 _LABEL = r"(\d+|\"[^\"]*\"|'[^']*'|[A-Za-z_][\w]*)"
 _CALL_LBL = re.compile(rf"CALL\s+LBL\s*{_LABEL}(?:\s+REP\s*(\d+)(?:\s*/\s*\d+)?)?\s*$", re.I)
 _LBL = re.compile(rf"LBL\s*{_LABEL}\s*$", re.I)
@@ -50,6 +58,7 @@ _FN = re.compile(r"FN\s*(\d+)\s*:\s*(.*?)\s*$", re.I)
 _ASSIGN = re.compile(rf"({Q_REF})\s*=\s*(.*?)\s*$", re.I)
 _JUMP = re.compile(rf"IF\s*({OPERAND})\s+(EQU|NE|GT|LT)\s+({OPERAND})\s+GOTO\s+LBL\s*{_LABEL}\s*$", re.I)
 _JUMP_OPS = {9: "EQU", 10: "NE", 11: "GT", 12: "LT"}
+_LBL_TEXT = re.compile(rb"LBL")  # in every line whose statement is LBL (ASCII letters in upper case)
 _PGM = re.compile(r"(?:CALL\s+PGM|PGM\s+CALL)\s+(\"[^\"]*\"|'[^']*'|\S+)\s*$", re.I)
 
 
@@ -62,7 +71,7 @@ def _label_key(text: str) -> str:
 class _Source:
     file: str
     path: Path | None
-    blocks: list[Block]
+    blocks: Sequence[Block]
     labels: dict[str, int] = field(default_factory=dict)
 
 
@@ -85,9 +94,25 @@ class FlowBlocks(MotionBlocks):
     def _no_open_corner(self, what: str) -> None:  # pragma: no cover - the reader's
         raise NotImplementedError
 
+    def _release(self) -> list[Move]:  # pragma: no cover - the reader's
+        raise NotImplementedError
+
     def _source(self, text: str, file: str, path: Path | None) -> _Source:
-        src = _Source(file, path, [lex_block(raw, n) for n, raw in enumerate(program_lines(text), start=1)])
-        for i, blk in enumerate(src.blocks):
+        labelled: Iterable[int]
+        block: Callable[[int], Block]
+        if self.output is None:
+            src = _Source(file, path, [lex_block(raw, n) for n, raw in enumerate(program_lines(text), start=1)])
+            labelled, block = range(len(src.blocks)), src.blocks.__getitem__
+        else:  # read block by block: the blocks lexed as they run, the labels found first
+            lines = TextLines(text)
+
+            def block(i: int) -> Block:
+                return lex_block(lines[i], i + 1)
+
+            src = _Source(file, path, OnDemand(len(lines), block))
+            labelled = lines_matching(lines, _LBL_TEXT)
+        for i in labelled:
+            blk = block(i)
             if blk.statement != "LBL":
                 continue
             m = _LBL.match(blk.source, blk.column - 1)
@@ -115,8 +140,9 @@ class FlowBlocks(MotionBlocks):
             raise BlockError(exc.code, exc.message, exc.column) from None
 
     # ------------------------------------------------------------------ the run
-    def _run(self, text: str) -> bool:
-        """Execute the program; False when it stopped with an error (already reported)."""
+    def _run(self, text: str) -> Generator[Move, None, bool]:
+        """Execute the program, giving the moves that are ready every few blocks (read block by
+        block: ``output``); returns False when it stopped with an error (already reported)."""
         path = Path(self.file) if self.file and not self.file.startswith("<") else None
         try:
             src = self._source(text, self.file, path)
@@ -158,6 +184,8 @@ class FlowBlocks(MotionBlocks):
                 e.extra.setdefault("seq", self.seq)
                 e.extra.setdefault("diag_mark", mark)
                 e.extra.setdefault("lookahead", self.lookahead)
+            if self.output is not None and len(self.elems) > _RELEASE:
+                yield from self._release()
             if self.ended:
                 return True
         if stack:
@@ -211,7 +239,10 @@ class FlowBlocks(MotionBlocks):
             self.q.pop_local()
             self.unit = call.unit
             return call.source, call.back
-        run = lex_block(self._line_text(blk), blk.line, self._q_value)
+        if "Q" in text or "q" in text:  # its Q parameters' values now
+            run = lex_block(self._line_text(blk), blk.line, self._q_value)
+        else:
+            run = blk  # lexed as it would be again (without a Q parameter the values do not change)
         self._block(run, span)
         if any(w.address == "M" and w.value in (2.0, 30.0) for w in run.words):
             if any(c.kind == "pgm" for c in stack):

@@ -21,27 +21,34 @@ RND/CHF), :class:`~.flow.FlowBlocks` (the run: Q parameters, labels, subprograms
 called programs) and :class:`HeidenhainReader` here (the statements without motion, TOOL DEF/CALL,
 the cycles, the radius check and the moves). Coordinate transformation cycles are
 :mod:`~trcopt.controllers.heidenhain.frames`.
+
+:meth:`HeidenhainReader.read` reads the whole program, then checks the radius and makes the moves;
+:meth:`HeidenhainReader.iter_moves` gives the same moves block by block: the program's blocks are
+lexed as they run and its elements become moves as soon as they are final (:mod:`.emit`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Generator, Iterator
+
 from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.controllers.heidenhain.contour import TOOL_RADIUS_TOO_LARGE, Elem, radius_too_large
+from trcopt.controllers.heidenhain.emit import ElementOutput, MoveMaker
 from trcopt.controllers.heidenhain.flow import FlowBlocks
 from trcopt.controllers.heidenhain.frames import FRAME_CYCLES, FrameError, apply_cycle
 from trcopt.controllers.heidenhain.lexer import Block, Word
-from trcopt.controllers.heidenhain.m120 import LookAheadMove
 from trcopt.controllers.heidenhain.state import ALLOWED_WORDS, BlockError, HeidenhainOptions
 from trcopt.controllers.heidenhain.tooltable import HhTool, find_tool_table, load_tool_table
-from trcopt.errors import ConfigError, Severity, SourceSpan
+from trcopt.errors import ConfigError, Diagnostic, Severity, SourceSpan
 from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
-from trcopt.modes import CollisionMode, CornerMode, PathMode, Side, ToleranceKind
+from trcopt.modes import PathMode, Side, ToleranceKind
 from trcopt.nc.modal import ReadOptions
-from trcopt.nc.model import EXACT_PATH, CompState, Move, MoveKind, NcProgram, PathControl
+from trcopt.nc.model import EXACT_PATH, Move, MoveKind, NcProgram, PathControl
+from trcopt.nc.stream import MoveStream, ReadSummary
 
-__all__ = ["HeidenhainReader", "read_heidenhain", "read_klartext"]
+__all__ = ["HeidenhainReader", "read_heidenhain", "read_klartext", "stream_klartext"]
 
 _AXIS_PLANE = {"Z": Plane.G17, "Y": Plane.G18, "X": Plane.G19}
 _MOTION = {"L", "LP", "C", "CR", "CT", "CP", "CTP"}
@@ -55,21 +62,47 @@ class HeidenhainReader(FlowBlocks):
     # ------------------------------------------------------------------ driver
     def read(self, text: str) -> NcProgram:
         self._load_table()
-        if self._run(text) and not self.ended:
-            if self.appr is not None:
-                self._error(
-                    Code.HH_APPR_NO_CONTOUR, "APPR without a following contour element", self.appr.span
-                )
-            elif self.corner is not None:
-                self._error(
-                    Code.HH_SYNTAX,
-                    f"{self.corner[0]} without a following contour element",
-                    self.corner[3],
-                )
+        if _returned(self._run(text)) and not self.ended:
+            self._open_at_end()
         self._check_radius()
         moves = self._moves()
         extras: dict[str, object] = {"words": self.word_blocks}
         return NcProgram(self.file, "heidenhain", tuple(moves), tuple(self.diags), self.blocks, extras)
+
+    def iter_moves(self, text: str) -> Iterator[Move]:
+        """The moves of ``text`` block by block (:mod:`~.emit`: the program's blocks, elements
+        and moves are never all held); when it ends, ``diags`` and ``blocks`` are those
+        :meth:`read` returns."""
+        self._load_table()
+        late: list[Diagnostic] = []
+        maker = MoveMaker(
+            self.controls, lambda: self.plane, lambda c, m, s: late.append(Diagnostic(Severity.WARNING, c, m, s))
+        )
+        out = self.output = ElementOutput(maker)
+        if (yield from self._run(text)) and not self.ended:
+            self._open_at_end()
+        for e in self.elems:
+            out.add(e)
+        self.elems.clear()
+        yield from out.end()
+        self.diags = out.diagnostics(self.diags) + late
+
+    def _release(self) -> list[Move]:
+        """The moves that are ready: every element but the last is final (:class:`~.emit.ElementOutput`)."""
+        elems, out = self.elems, self.output
+        assert out is not None
+        if len(elems) > 1:
+            for e in elems[:-1]:
+                out.add(e)
+            del elems[:-1]
+        return out.ready()
+
+    def _open_at_end(self) -> None:
+        """The program ran to its end with an APPR or RND/CHF waiting for its contour element."""
+        if self.appr is not None:
+            self._error(Code.HH_APPR_NO_CONTOUR, "APPR without a following contour element", self.appr.span)
+        elif self.corner is not None:
+            self._error(Code.HH_SYNTAX, f"{self.corner[0]} without a following contour element", self.corner[3])
 
     def _load_table(self) -> None:
         path = find_tool_table(self.file)
@@ -281,62 +314,17 @@ class HeidenhainReader(FlowBlocks):
             return
 
     def _moves(self) -> list[Move]:
-        moves: list[Move] = []
-        m97_before = False
-        controls = iter(self.controls)
-        change = next(controls, None)
-        control = EXACT_PATH
-        for e in self.elems:
-            seq = e.extra.get("seq", 0)
-            assert isinstance(seq, int)
-            while change is not None and change[0] <= seq:
-                control = change[1]
-                change = next(controls, None)
-            if "M90" in e.actions and not self.warned_m90:
-                self.warned_m90 = True
-                self._warn(
-                    Code.NC_PATH_CONTROL,
-                    "M90 (constant contouring speed at corners in servo-lag operation) is not modelled; "
-                    "the corners are planned with a stop as without a path-control mode",
-                    e.span,
-                )
-            plane = e.extra.get("plane", self.plane)
-            assert isinstance(plane, Plane)
-            lookahead = e.extra.get("lookahead", 0) if e.side is not Side.OFF else 0
-            assert isinstance(lookahead, int)
-            comp = CompState(
-                side=e.side,
-                radius=e.radius,
-                tool_active=e.tool_active,
-                corner=CornerMode.INTERSECTION if m97_before else CornerMode.TRANSITION_CIRCLE,
-                collision=CollisionMode.CDON if lookahead else CollisionMode.CDOF,
-                side_programmed=e.side_programmed,
-            )
-            m97_before = e.m97
-            center = None
-            if e.center is not None:
-                center = plane.to_xyz((e.center[0], e.center[1], e.start[2]))
-            actions = e.actions + (("M97",) if e.m97 and "M97" not in e.actions else ())
-            moves.append(
-                Move(
-                    e.kind,
-                    plane.to_xyz(e.start),
-                    plane.to_xyz(e.end),
-                    plane,
-                    e.span,
-                    comp,
-                    e.feed,
-                    center,
-                    e.ccw if e.kind is MoveKind.ARC else None,
-                    e.turns,
-                    actions,
-                    origin=e.origin,
-                    control=control,
-                )
-            )
-            if lookahead:
-                moves[-1] = LookAheadMove.of(moves[-1], lookahead)
-        return moves
+        maker = MoveMaker(self.controls, lambda: self.plane, self._warn)
+        return [maker.move(e) for e in self.elems]
+
+
+def _returned(run: Generator[Move, None, bool]) -> bool:
+    """What a run that gives no moves returns."""
+    while True:
+        try:
+            next(run)
+        except StopIteration as stop:
+            return stop.value
 
 
 def read_heidenhain(
@@ -349,6 +337,21 @@ def read_heidenhain(
 def read_klartext(text: str, options: ReadOptions) -> NcProgram:
     """The controller's reader: ``options.tool_table`` is a TOML tool table (default: the one
     beside the program, see :func:`~trcopt.controllers.heidenhain.tooltable.find_tool_table`)."""
+    return _reader(options).read(text)
+
+
+def stream_klartext(text: str, options: ReadOptions) -> MoveStream:
+    """:func:`read_klartext` block by block (:meth:`HeidenhainReader.iter_moves`)."""
+    reader = _reader(options)
+    return MoveStream(
+        options.file,
+        reader.name,
+        reader.iter_moves(text),
+        lambda: ReadSummary(list(reader.diags), reader.blocks, {"words": reader.word_blocks}),
+    )
+
+
+def _reader(options: ReadOptions) -> HeidenhainReader:
     tools = {} if options.tool_table is None else load_tool_table(options.tool_table)
     hh = HeidenhainOptions(appr_radius=options.appr_radius, tools=tools)  # type: ignore[arg-type]
-    return read_heidenhain(text, file=options.file, tolerances=options.tolerances, options=hh)
+    return HeidenhainReader(options.file, options.tolerances, hh)

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from trcopt.codes import Code
 from trcopt.config import Tolerances
 from trcopt.controllers.heidenhain.contour import Elem
+from trcopt.controllers.heidenhain.emit import ElementOutput
 from trcopt.controllers.heidenhain.frames import Frame
 from trcopt.controllers.heidenhain.lexer import Block, Word
 from trcopt.controllers.heidenhain.qparams import QParams
@@ -175,12 +176,12 @@ class ReaderState:
         self.word_blocks: list[tuple[SourceSpan, tuple[str, ...]]] = []
         self.ended = False
         self.controls: list[tuple[int, PathControl]] = []  # (executed block, path control from there on)
-        self.warned_m90 = False
         self.iterations = 0  # loop iterations so far (FN 9–12 jumps back, section repeats)
         self.seq = 0  # executed blocks so far (the order of the run, also across jumps and calls)
         self.frame = Frame()
         self.q = QParams(self._preset_q)
         self.lookahead = 0  # M120 LA in force (0: M120 off)
+        self.output: ElementOutput | None = None  # the moves given block by block (None: read whole)
 
     def _preset_q(self, name: str) -> float | None:
         """The TNC's preassigned Q parameters: Q108 compensation value, Q113 unit (0 mm, 1 inch)."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from trcopt.compensation.engine import compensate
 from trcopt.controllers.base import Controller
-from trcopt.controllers.siemens.reader import read_siemens
+from trcopt.controllers.siemens.reader import read_siemens, stream_siemens
 from trcopt.controllers.siemens.sar import expand_sar
 from trcopt.io.gcode import GcodeFlavor
 
@@ -32,4 +32,5 @@ CONTROLLER = Controller(
     compensate=compensate,
     gcode=GCODE,
     leads=expand_sar,
+    stream=stream_siemens,
 )

@@ -22,6 +22,7 @@ Nothing here evaluates or runs; :mod:`trcopt.controllers.siemens.runner` does.
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from trcopt.controllers.siemens.branch import CALL_LINE, CASE_LINE
@@ -30,7 +31,7 @@ from trcopt.controllers.siemens.variables import DEF_LINE
 from trcopt.errors import AlarmError, SourceSpan, alarm
 from trcopt.nc.text import program_lines
 
-__all__ = ["Statement", "Program", "scan", "strip_comment"]
+__all__ = ["Statement", "Program", "scan", "match_structures", "strip_comment"]
 
 _STRUCT = re.compile(
     r"(?P<kw>IF|ELSE|ENDIF|WHILE|ENDWHILE|FOR|ENDFOR|REPEATB|REPEAT|UNTIL|LOOP|ENDLOOP|PROC|EXTERN|MCALL)"
@@ -62,6 +63,7 @@ _STRUCT_PAIRS = {
     "UNTIL": "REPEAT",
     "ENDLOOP": "LOOP",
 }
+_OPENERS = {"IF": "ENDIF", "WHILE": "ENDWHILE", "FOR": "ENDFOR", "REPEAT": "UNTIL", "LOOP": "ENDLOOP"}
 
 
 @dataclass(slots=True)
@@ -97,13 +99,15 @@ class Statement:
 
 @dataclass(slots=True)
 class Program:
-    """A scanned program file: its statements, labels and block numbers."""
+    """A scanned program file: its statements, labels and block numbers (a list and dicts, or,
+    for a program read block by block, sequences that make them when asked for:
+    :mod:`trcopt.controllers.siemens.lazyscan`)."""
 
     file: str
     name: str
-    statements: list[Statement]
+    statements: Sequence[Statement]
     labels: dict[str, list[int]] = field(default_factory=dict)  # label → its statements' indices
-    numbers: dict[str, list[int]] = field(default_factory=dict)  # "N100" → indices
+    numbers: Mapping[str, list[int]] = field(default_factory=dict)  # "N100" → indices
 
 
 def strip_comment(text: str) -> str:
@@ -129,21 +133,36 @@ def _is_call(name: str, args: str | None, known: frozenset[str]) -> bool:
 def scan(text: str, file: str, name: str, known: frozenset[str]) -> Program:
     """Scan a program (see the module docstring); ``known``: the names that are words, not calls.
     Raises :class:`AlarmError` for a control structure that does not close (alarm 12640)."""
-    program = Program(file, name, [])
-    stack: list[Statement] = []
-    for lineno, line in enumerate(program_lines(text), 1):
-        st = _statement(len(program.statements), lineno, line, known)
-        program.statements.append(st)
-        if st.label is not None:
-            program.labels.setdefault(st.label.upper(), []).append(st.index)
+    statements = [_statement(i, lineno, line, known) for i, (lineno, line) in enumerate(
+        enumerate(program_lines(text), 1))]
+    labels, partners = match_structures(statements, file)
+    for index, partner in partners.items():
+        statements[index].partner = partner
+    numbers: dict[str, list[int]] = {}
+    for st in statements:
         if st.number is not None:
-            program.numbers.setdefault(st.number, []).append(st.index)
+            numbers.setdefault(st.number, []).append(st.index)
+    return Program(file, name, statements, labels, numbers)
+
+
+def match_structures(statements: Iterable[Statement], file: str) -> tuple[dict[str, list[int]], dict[int, int]]:
+    """The labels (label → its statements' indices) and the partners of the structure keywords
+    (index → index of the matching keyword, as :attr:`Statement.partner`) of ``statements`` in
+    program order — every statement with a label or a structure keyword, others may be left out.
+    Raises :class:`AlarmError` for a control structure that does not close (alarm 12640)."""
+    labels: dict[str, list[int]] = {}
+    partners: dict[int, int] = {}
+    stack: list[Statement] = []
+    for st in statements:
+        if st.label is not None:
+            labels.setdefault(st.label.upper(), []).append(st.index)
         kw = st.kind.upper()
-        if kw in ("IF", "WHILE", "FOR", "REPEAT", "LOOP"):
+        if kw in _OPENERS:
             stack.append(st)
         elif kw in _STRUCT_PAIRS:
             opener = stack[-1] if stack else None
-            if opener is None or opener.kind.upper() != _STRUCT_PAIRS[kw] or (kw == "ELSE" and opener.partner >= 0):
+            second_else = kw == "ELSE" and opener is not None and opener.index in partners
+            if opener is None or opener.kind.upper() != _STRUCT_PAIRS[kw] or second_else:
                 what = "a second ELSE" if opener is not None and kw == "ELSE" and opener.kind == "if" else kw
                 raise AlarmError(
                     alarm(
@@ -153,22 +172,21 @@ def scan(text: str, file: str, name: str, known: frozenset[str]) -> Program:
                     )
                 )
             if kw == "ELSE":
-                opener.partner = st.index  # IF → ELSE; the IF stays open until ENDIF
+                partners[opener.index] = st.index  # IF → ELSE; the IF stays open until ENDIF
                 continue
             stack.pop()
-            if kw == "ENDIF" and opener.partner >= 0:
-                program.statements[opener.partner].partner = st.index  # ELSE → ENDIF
+            if kw == "ENDIF" and opener.index in partners:
+                partners[partners[opener.index]] = st.index  # ELSE → ENDIF
             else:
-                opener.partner = st.index
-            st.partner = opener.index
+                partners[opener.index] = st.index
+            partners[st.index] = opener.index
     if stack:
         st = stack[-1]
         kw = st.kind.upper()
-        ends = {"IF": "ENDIF", "WHILE": "ENDWHILE", "FOR": "ENDFOR", "REPEAT": "UNTIL", "LOOP": "ENDLOOP"}
         raise AlarmError(
-            alarm(12640, f"invalid nesting of control structures: {kw} without its {ends[kw]}", st.span(file))
+            alarm(12640, f"invalid nesting of control structures: {kw} without its {_OPENERS[kw]}", st.span(file))
         )
-    return program
+    return labels, partners
 
 
 def _statement(index: int, lineno: int, line: str, known: frozenset[str]) -> Statement:

@@ -54,6 +54,7 @@ class MotionGeometry:
     file: str
     state: ModalState
     moves: list[Move]
+    last_motion: Move | None
     frame: Frame
     settable: int
     reference: int | None
@@ -287,7 +288,7 @@ class MotionGeometry:
     def _ct(self, start: Vec, end: Vec, span: SourceSpan) -> tuple[Vec, bool]:
         plane = self.state.plane
         u, v, w = plane.axes
-        prev = next((m for m in reversed(self.moves) if m.kind is not _NONE), None)
+        prev = self.last_motion
         if prev is None:
             raise fail(Code.NC_ARC_CENTRE, "CT: no preceding motion to be tangent to", span)
         if prev.kind is _ARC and prev.center is not None:

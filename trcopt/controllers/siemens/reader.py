@@ -1,8 +1,10 @@
 """SINUMERIK 840D sl dialect: reads a program block by block into canonical moves.
 
 The program is scanned into statements (:mod:`trcopt.controllers.siemens.flow`: control structures,
-jumps, calls, lexed blocks) and run by :mod:`trcopt.controllers.siemens.runner` (program counter,
-subprograms); each block's words are dispatched to the handlers of
+jumps, calls, lexed blocks; read block by block, :meth:`SiemensReader.iter_moves`, the statements
+are made as they run, :mod:`trcopt.controllers.siemens.lazyscan`) and run by
+:mod:`trcopt.controllers.siemens.runner` (program counter, subprograms), which gives each block's
+moves as it has run; each block's words are dispatched to the handlers of
 :mod:`trcopt.controllers.siemens.words`, and :meth:`SiemensReader._finish` completes the block:
 plane change (alarm 10757), T/D selection, compensation side (tool type check), feed, end point,
 arc centre (I/J/K, ``=AC``, ``CR=``) with the end radius check, SAR words, and the
@@ -14,11 +16,13 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
+from collections.abc import Iterator
 
 from trcopt.codes import Code
 from trcopt.controllers.siemens.block import _GEOMETRY_WORDS, _MOTION_WORDS, _QUIET_CALLS, _QUIET_KEYWORDS, Block
 from trcopt.controllers.siemens.flow import scan
 from trcopt.controllers.siemens.frames import FRAME_WORDS, IDENTITY, find_zero_offsets, load_zero_offsets
+from trcopt.controllers.siemens.lazyscan import scan_lazy
 from trcopt.controllers.siemens.lexer import Expr, LexedBlock, Word
 from trcopt.controllers.siemens.motion import MotionGeometry
 from trcopt.controllers.siemens.path_control import PathControlState
@@ -39,10 +43,10 @@ from trcopt.nc.modal import (
     fail,
 )
 from trcopt.nc.model import CompState, Move, MoveKind, NcProgram, SarSpec
-from trcopt.nc.text import program_lines
+from trcopt.nc.stream import MoveStream, ReadSummary
 from trcopt.nc.tools import ToolEdge, ToolTable
 
-__all__ = ["SiemensReader", "read_siemens"]
+__all__ = ["SiemensReader", "read_siemens", "stream_siemens"]
 
 _RAPID, _ARC, _NONE = MoveKind.RAPID, MoveKind.ARC, MoveKind.NONE
 #: names a DEF variable may not take: addresses and keywords trcopt reads or refuses
@@ -77,8 +81,11 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
         self.pole = (0.0, 0.0)
         self.polar = [0.0, 0.0]  # modal AP (degrees), RP (mm)
         self.mcall: tuple[str, str, int] | None = None
-        self._runs: dict[tuple[str, int], int] = {}  # how often each block ran
-        self.moves: list[Move] = []
+        # how often each block ran: a byte a line (ran at all) and the lines that ran again
+        self._seen: dict[str, bytearray] = {}
+        self._again: dict[tuple[str, int], int] = {}
+        self.moves: list[Move] = []  # the moves made and not given yet (trcopt.controllers.siemens.runner)
+        self.last_motion: Move | None = None  # the last move that moves (CT)
         self.diagnostics: list[Diagnostic] = []
         self.carriers: dict[int, dict[int, object]] = {}
         self.toolholder_events: list[dict[str, object]] = []
@@ -97,13 +104,27 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
     def read(self, text: str) -> NcProgram:
         """Read the whole program; never raises for a problem in the program."""
         with collector_paused():  # the moves are acyclic (trcopt.nc.collector)
-            return self._read(text)
+            moves = tuple(self.iter_moves(text, lazy=False))
+        return NcProgram(
+            file=self.main_file,
+            dialect=self.name,
+            moves=moves,
+            diagnostics=tuple(self.diagnostics),
+            blocks=self.blocks,
+            extras=self.extras(),
+        )
 
-    def _read(self, text: str) -> NcProgram:
+    def iter_moves(self, text: str, lazy: bool = True) -> Iterator[Move]:
+        """The moves of ``text`` as the blocks run; when it ends, ``diagnostics``, ``blocks`` and
+        :meth:`extras` are those :meth:`read` returns. ``lazy``: the statements of the program
+        and its subprograms are made as they run (:func:`~.lazyscan.scan_lazy`: the program's
+        statements and moves are never all held), else scanned first (:func:`~.flow.scan`)."""
         ended = failed = False
+        program = None
+        self.scan = scan_lazy if lazy else scan  # of the main program and the subprograms
         try:
-            program = scan(text, self.file, "", self.known_words)
-            ended = self._run(program)
+            program = self.scan(text, self.file, "", self.known_words)
+            ended = yield from self._run(program)
         except AlarmError as exc:
             self.diagnostics.append(exc.diagnostic)
             failed = True
@@ -112,22 +133,20 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             message = f"internal error while reading this block: {exc!r}"
             self.diagnostics.append(Diagnostic(Severity.ERROR, Code.NC_INTERNAL, message, span))
             failed = True
+        if self.moves:  # those not given yet (of the last blocks, those before an error too)
+            yield from self.moves
+            self.moves.clear()
         if not ended and not failed:
-            span = SourceSpan(self.main_file, max(len(program_lines(text)), 1), 1)
-            self._warn(Code.NC_NO_END, "program has no end (M2/M30)", span)
-        extras: dict[str, object] = {
+            lines = len(program.statements) if program is not None else 0
+            self._warn(Code.NC_NO_END, "program has no end (M2/M30)", SourceSpan(self.main_file, max(lines, 1), 1))
+
+    def extras(self) -> dict[str, object]:
+        """The program's extras: toolholders, toolholder events and tool data."""
+        return {
             "carriers": self.carriers,
             "toolholder_events": self.toolholder_events,
             "tools": self.state.tools.as_dict(),
         }
-        return NcProgram(
-            file=self.main_file,
-            dialect=self.name,
-            moves=tuple(self.moves),
-            diagnostics=tuple(self.diagnostics),
-            blocks=self.blocks,
-            extras=extras,
-        )
 
     def _current_span(self) -> SourceSpan:
         levels = getattr(self, "levels", None)
@@ -165,9 +184,18 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             self._warn(Code.NC_UNSUPPORTED_WORD, message, self._at(span, word))
 
     def _block(self, lexed: LexedBlock, lineno: int) -> bool:
-        key = (self.file, lineno)
-        run = self._runs.get(key, -1) + 1
-        self._runs[key] = run
+        seen = self._seen.get(self.file)
+        if seen is None:
+            seen = self._seen[self.file] = bytearray()
+        if lineno >= len(seen):
+            seen.extend(bytes(lineno + 1 - len(seen)))
+        if seen[lineno]:  # the block runs again: how often it ran is counted from its second run
+            key = (self.file, lineno)
+            run = self._again.get(key, 0) + 1
+            self._again[key] = run
+        else:
+            seen[lineno] = 1
+            run = 0
         span = SourceSpan(self.file, lineno, lexed.first_column, lexed.number, None, None, run)
         self._executable = True
         b = Block()
@@ -293,24 +321,25 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             if feed is None and kind is not _NONE and not self._warned_no_feed:
                 self._warned_no_feed = True
                 self._warn(Code.NC_NO_FEED, "no feed programmed (F) for a G1/G2/G3 block", span)
-        self.moves.append(
-            Move(
-                kind=kind,
-                start=pos,
-                end=end,
-                plane=plane,
-                span=span,
-                comp=self._comp(side_programmed),
-                feed_mm_s=feed,
-                center=center,
-                ccw=ccw,
-                turns=b.turn,
-                actions=tuple(b.actions),
-                sar=sar,
-                plane_programmed=plane_programmed,
-                control=self.path.control(kind, b.exact_stop, span, self.diagnostics),
-            )
+        move = Move(
+            kind=kind,
+            start=pos,
+            end=end,
+            plane=plane,
+            span=span,
+            comp=self._comp(side_programmed),
+            feed_mm_s=feed,
+            center=center,
+            ccw=ccw,
+            turns=b.turn,
+            actions=tuple(b.actions),
+            sar=sar,
+            plane_programmed=plane_programmed,
+            control=self.path.control(kind, b.exact_stop, span, self.diagnostics),
         )
+        self.moves.append(move)
+        if kind is not _NONE:
+            self.last_motion = move
         st.position = end
 
     def _comp(self, side_programmed: bool) -> CompState:
@@ -381,6 +410,21 @@ def read_siemens(text: str, options: ReadOptions) -> NcProgram:
     one beside the program, :func:`~trcopt.controllers.siemens.tooldata.find_tool_table`), then
     ``options.tools``, then the program's ``$TC_DP`` assignments; zero offsets: ``options.zero_offsets``
     (default: the one beside the program). An invalid file raises :class:`~trcopt.errors.ConfigError`."""
+    return _reader(options).read(text)
+
+
+def stream_siemens(text: str, options: ReadOptions) -> MoveStream:
+    """:func:`read_siemens` block by block (:meth:`SiemensReader.iter_moves`)."""
+    reader = _reader(options)
+    return MoveStream(
+        options.file,
+        reader.name,
+        reader.iter_moves(text),
+        lambda: ReadSummary(list(reader.diagnostics), reader.blocks, reader.extras()),
+    )
+
+
+def _reader(options: ReadOptions) -> SiemensReader:
     path = options.tool_table if options.tool_table is not None else find_tool_table(options.file)
     if path is not None:
         tools = load_tool_table(path)
@@ -391,4 +435,4 @@ def read_siemens(text: str, options: ReadOptions) -> NcProgram:
     reader = SiemensReader(options, tools, source)
     if options.zero_offsets is not None or find_zero_offsets(options.file) is not None:
         reader.zero = load_zero_offsets(options.zero_offsets or find_zero_offsets(options.file))  # type: ignore[arg-type]
-    return reader.read(text)
+    return reader

@@ -22,15 +22,17 @@ from __future__ import annotations
 import bisect
 import os
 import re
+from collections.abc import Callable, Generator
 from dataclasses import dataclass, field
 
 from trcopt.codes import Code
 from trcopt.controllers.siemens.branch import CALL_LINE, call_text, parse_case
-from trcopt.controllers.siemens.flow import _FOR, _SECTION, Program, Statement, scan
+from trcopt.controllers.siemens.flow import _FOR, _SECTION, Program, Statement
 from trcopt.controllers.siemens.lexer import Word
 from trcopt.controllers.siemens.variables import DEF_LINE, Variable, Variables, _split, _store
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, TrcoptError, alarm
 from trcopt.nc.modal import fail
+from trcopt.nc.model import Move
 from trcopt.nc.text import decode_program
 
 __all__ = ["ProgramRunner", "MAX_ITERATIONS", "MAX_BLOCKS", "MAX_LEVELS"]
@@ -41,6 +43,7 @@ MAX_ITERATIONS = 100_000
 MAX_BLOCKS = 2_000_000
 #: program levels (the main program and 15 nested subprogram calls)
 MAX_LEVELS = 16
+_BATCH = 512  # moves given together (a few at a time run slower: the reader and its consumer take turns)
 _PROC = re.compile(r"(?P<name>[A-Z_][A-Z0-9_]*)[ \t]*(?:\((?P<params>[^)]*)\))?(?P<attrs>.*)\Z", re.I | re.S)
 _PARAM = re.compile(
     r"(?P<var>VAR[ \t]+)?(?P<type>REAL|INT|BOOL|CHAR|STRING|AXIS|FRAME)[ \t]+(?P<name>[A-Z_][A-Z0-9_]*)\Z", re.I
@@ -72,18 +75,26 @@ class ProgramRunner:
 
     # provided by the reader
     file: str
+    moves: list[Move]
+    scan: Callable[[str, str, str, frozenset[str]], Program]  # the scan of a program file
     variables: Variables
     diagnostics: list[Diagnostic]
     blocks: int
     _executable: bool
 
-    def _run(self, program: Program) -> bool:
-        """Run ``program``; True when it ended with M2/M30 (False at its last line)."""
+    def _run(self, program: Program) -> Generator[Move, None, bool]:
+        """Run ``program``, giving the moves of the statements that have run (``moves``, emptied
+        every :data:`_BATCH` moves: those left when it ends are the caller's); returns True when
+        it ended with M2/M30 (False at its last line)."""
         self.levels = [Level(program, self.variables)]
         self._programs: dict[str, Program] = {}
         self.iterations = 0
         executed = 0
+        moves = self.moves
         while True:
+            if len(moves) >= _BATCH:
+                yield from moves
+                moves.clear()
             level = self.levels[-1]
             stmts = level.program.statements
             if level.pc >= len(stmts):
@@ -139,7 +150,8 @@ class ProgramRunner:
             self._define(st.text, st.lineno, m)  # type: ignore[attr-defined]
             return False
         if kind in ("proc", "extern"):
-            if kind == "proc" and any(s.kind not in ("empty",) for s in level.program.statements[: st.index]):
+            stmts = level.program.statements
+            if kind == "proc" and any(stmts[i].kind != "empty" for i in range(st.index)):
                 raise fail(Code.NC_CALL, "PROC must be the first line of a program", span)
             if level.executable:
                 raise fail(Code.NC_CALL, f"{kind.upper()} after the first executable block", span)
@@ -435,7 +447,7 @@ class ProgramRunner:
                         ) from None
                     except TrcoptError as exc:
                         raise fail(Code.NC_NOT_TEXT, exc.message, span) from None
-                    program = scan(text, shown, name, self.known_words)  # type: ignore[attr-defined]
+                    program = self.scan(text, shown, name, self.known_words)  # type: ignore[attr-defined]
                     self._programs[name] = program
                     return program
         looked = ", ".join(folders) or "(no folder)"
