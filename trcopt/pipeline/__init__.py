@@ -441,15 +441,23 @@ def limits_error(rep: Any, trajectory: Trajectory, machine: Machine, check_dt: f
 
 
 def _worst_sample_span(trajectory: Trajectory, machine: Machine, dt_s: float) -> SourceSpan | None:
-    """The source block of the sample whose acceleration is largest against the axis limits."""
+    """The source block of the sample whose acceleration is largest against the axis limits (the
+    first such sample; the samples evaluated in pieces, so a long cycle's are never all held)."""
     import numpy as np
 
-    smp = trajectory.sample(dt_s)
+    from trcopt.timing.checks import sample_chunks
+
     amax = np.array([machine.axis(k).amax_mm_s2 for k in "XYZ"])
-    if not len(smp.segment):
-        return None
-    worst = int(np.argmax((np.abs(smp.a) / amax).max(axis=1)))
-    return trajectory.segments[int(smp.segment[worst])].span
+    best, seg = -np.inf, None
+    for ts in sample_chunks(trajectory.duration, dt_s, chunk=1 << 16):
+        smp = trajectory.evaluate(ts)
+        if not len(smp.segment):
+            continue
+        ratio = (np.abs(smp.a) / amax).max(axis=1)
+        k = int(np.argmax(ratio))
+        if ratio[k] > best:  # strictly: an equal value later is not the first
+            best, seg = float(ratio[k]), int(smp.segment[k])
+    return None if seg is None else trajectory.segments[seg].span
 
 
 def _timing_warning(result: PlanResult, exc: TrcoptError, what: str) -> None:
