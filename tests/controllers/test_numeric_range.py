@@ -123,3 +123,34 @@ def test_check_moves_finds_what_out_of_range_finds_move_by_move() -> None:
         assert check_moves(moves, notes) == expected
         found += len(expected[0]) < len(moves)
     assert 50 < found < 350
+
+
+@pytest.mark.parametrize("streamed", [False, True])
+def test_an_arc_of_radius_zero_is_an_error_at_its_block(tmp_path: object, streamed: bool) -> None:
+    """A polar circle around a pole at the tool (SINUMERIK ``AP=… G3`` from the pole) has its
+    centre at its start point: no circle, and a zero-length arc the timing stage cannot divide by."""
+    text = "N10 G17 G90 G0 X0 Y0 Z0\nN20 AP=459 F476 G3\nN30 G1 X10\nN40 M30\n"
+    if streamed:
+        from pathlib import Path
+
+        from trcopt.pipeline.stream import plan_streamed
+
+        prog = Path(str(tmp_path)) / "p.mpf"
+        prog.write_text(text)
+        res: object = plan_streamed(str(prog), PlanOptions())
+    else:
+        res = plan(text, file="p.mpf", options=PlanOptions())
+    errors = [d for d in res.diagnostics if d.severity is Severity.ERROR]  # type: ignore[attr-defined]
+    assert [(d.code, d.span.line, d.span.block) for d in errors] == [(Code.NC_RANGE, 2, "N20")]
+    assert "arc radius 0 mm" in errors[0].message
+
+
+def test_an_arc_with_its_radius_in_its_plane_is_in_range() -> None:
+    """The radius is measured in the arc's plane: a G18 arc whose centre differs only in Y from
+    its start has no radius; one whose centre differs in Z has."""
+    span = SourceSpan("p.ngc", 1, 1)
+    comp = CompState()
+    arc = Move(MoveKind.ARC, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), Plane.G18, span, comp, 1.0, (0.0, 5.0, 0.0), True)
+    assert out_of_range(arc) is not None and "arc radius" in (out_of_range(arc) or "")
+    arc = dataclasses.replace(arc, center=(0.0, 5.0, 2.0))
+    assert out_of_range(arc) is None

@@ -27,11 +27,12 @@ from trcopt.codes import Code
 from trcopt.errors import Diagnostic, Severity
 from trcopt.nc.model import Move
 
-__all__ = ["MAX_COORDINATE_MM", "MAX_FEED_MM_S", "MAX_TURNS", "out_of_range", "check_moves"]
+__all__ = ["MAX_COORDINATE_MM", "MAX_FEED_MM_S", "MAX_TURNS", "MIN_ARC_RADIUS_MM", "out_of_range", "check_moves"]
 
 MAX_COORDINATE_MM = 1e5
 MAX_FEED_MM_S = 1e8 / 60.0
 MAX_TURNS = 10_000
+MIN_ARC_RADIUS_MM = 1e-9  # an arc's radius in its plane (its centre this near its start: no circle)
 
 
 def _length_problem(value: float, what: str) -> str | None:
@@ -42,6 +43,14 @@ def _length_problem(value: float, what: str) -> str | None:
     return None
 
 
+def _arc_radius(move: Move) -> float:
+    """The distance of an arc's start point from its centre in the arc's plane."""
+    u, v, _ = move.plane.axes
+    p, c = move.start, move.center
+    assert c is not None
+    return math.hypot(p[u] - c[u], p[v] - c[v])
+
+
 def out_of_range(move: Move) -> str | None:
     """Why ``move`` holds a number out of range (a sentence), or None when every number is fine."""
     m = MAX_COORDINATE_MM
@@ -50,7 +59,8 @@ def out_of_range(move: Move) -> str | None:
         len(p) == 3 and len(q) == 3
         and -m <= p[0] <= m and -m <= p[1] <= m and -m <= p[2] <= m
         and -m <= q[0] <= m and -m <= q[1] <= m and -m <= q[2] <= m
-        and (c is None or len(c) == 3 and -m <= c[0] <= m and -m <= c[1] <= m and -m <= c[2] <= m)
+        and (c is None or len(c) == 3 and -m <= c[0] <= m and -m <= c[1] <= m and -m <= c[2] <= m
+             and _arc_radius(move) >= MIN_ARC_RADIUS_MM)
         and (feed is None or 0.0 <= feed <= MAX_FEED_MM_S)
         and -m <= move.comp.radius <= m
         and 0 <= move.turns <= MAX_TURNS
@@ -65,6 +75,11 @@ def out_of_range(move: Move) -> str | None:
             problem = _length_problem(value, f"{what} {axis}")
             if problem:
                 return problem
+    if move.center is not None and not _arc_radius(move) >= MIN_ARC_RADIUS_MM:
+        return (
+            f"arc radius {_arc_radius(move):.6g} mm (its centre at its start point) is below "
+            f"{MIN_ARC_RADIUS_MM:g} mm (trcopt.nc.limits.MIN_ARC_RADIUS_MM)"
+        )
     feed = move.feed_mm_s
     if feed is not None:
         if not math.isfinite(feed) or feed < 0.0:
