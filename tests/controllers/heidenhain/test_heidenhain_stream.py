@@ -23,21 +23,15 @@ ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_read_scale import heidenhain_program  # noqa: E402
 
+sys.path.insert(0, str(ROOT / "tests"))
+from stream_equality import read_both_ways  # noqa: E402
+
 PROBLEMS = sorted(p for p in (ROOT / "problems").rglob("*") if p.suffix.lower() == ".h")
 
 
 def _same(source: str | Path, file: str | None = None) -> tuple[object, list[object]]:
     """Read both ways; assert they agree; the whole program and the streamed moves."""
-    kw = {"file": file} if file else {}
-    whole = controllers.read_program(source, dialect="heidenhain", **kw)  # type: ignore[arg-type]
-    stream = controllers.stream_program(source, dialect="heidenhain", **kw)  # type: ignore[arg-type]
-    moves = list(stream)
-    prog = stream.program
-    assert moves == list(whole.moves)
-    assert prog.diagnostics == whole.diagnostics
-    assert prog.blocks == whole.blocks
-    assert prog.extras == whole.extras
-    return whole, moves
+    return read_both_ways(source, "heidenhain", file)
 
 
 def _numbered(*lines: str) -> str:

@@ -51,7 +51,16 @@ def test_a_move_out_of_range_ends_the_stream_with_its_error() -> None:
 
 
 def test_a_reader_that_cannot_stream_is_streamed_from_its_list() -> None:
+    """A controller without ``stream`` (here the SINUMERIK one with it taken away) is read whole
+    and its moves are streamed from the list."""
+    import dataclasses
+
     text = "N10 G90 G0 X0 Y0\nN20 G1 X10 F100\nN30 M30\n"
     whole = controllers.read_program(text, file="p.mpf", dialect="siemens")
-    stream = controllers.stream_program(text, file="p.mpf", dialect="siemens")
-    assert list(stream) == list(whole.moves) and stream.program.blocks == whole.blocks
+    plain = dataclasses.replace(controllers.get("siemens"), name="siemens-whole", dialect="siemens-whole", stream=None)
+    controllers.register(plain)
+    try:
+        stream = controllers.stream_program(text, file="p.mpf", dialect="siemens-whole")
+        assert list(stream) == list(whole.moves) and stream.program.blocks == whole.blocks
+    finally:
+        controllers.unregister("siemens-whole")

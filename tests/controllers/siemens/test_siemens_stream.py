@@ -22,21 +22,15 @@ ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_read_scale import siemens_program  # noqa: E402
 
+sys.path.insert(0, str(ROOT / "tests"))
+from stream_equality import read_both_ways  # noqa: E402
+
 PROBLEMS = sorted(p for p in (ROOT / "problems").rglob("*") if p.suffix.lower() in (".mpf", ".spf"))
 
 
 def _same(source: str | Path, file: str | None = None) -> tuple[object, list[object]]:
     """Read both ways; assert they agree; the whole program and the streamed moves."""
-    kw = {"file": file} if file else {}
-    whole = controllers.read_program(source, dialect="siemens", **kw)  # type: ignore[arg-type]
-    stream = controllers.stream_program(source, dialect="siemens", **kw)  # type: ignore[arg-type]
-    moves = list(stream)
-    prog = stream.program
-    assert moves == list(whole.moves)
-    assert prog.diagnostics == whole.diagnostics
-    assert prog.blocks == whole.blocks
-    assert prog.extras == whole.extras
-    return whole, moves
+    return read_both_ways(source, "siemens", file)
 
 
 def test_the_siemens_controller_streams() -> None:
