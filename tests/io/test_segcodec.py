@@ -42,7 +42,9 @@ def _round_trip(segs: list[Segment]) -> list[Segment]:
     return back
 
 
-@pytest.mark.parametrize("name", ["siemens/ex05_kont_g451.mpf", "heidenhain/h14_circle_cc.h", "rs274/cam_fusion_drill_profile.ngc"])
+@pytest.mark.parametrize(
+    "name", ["siemens/ex05_kont_g451.mpf", "heidenhain/h14_circle_cc.h", "rs274/cam_fusion_drill_profile.ngc"]
+)
 def test_planned_paths_come_back_field_by_field(name: str) -> None:
     path = ROOT / "problems" / name
     if not path.exists():
@@ -75,6 +77,8 @@ def test_what_the_columns_cannot_hold_is_pickled() -> None:
     span = SourceSpan("p.ngc", 1, 1)
     ints = Segment(Line((0, 0, 0), (1.0, 0.0, 0.0)), Plane.G17, Role.CONTOUR, span, 1.0)  # int coordinates
     assert encode([ints]) is None
+    listed = Segment(Line([0.0, 0.0, 0.0], (1.0, 0.0, 0.0)), Plane.G17, Role.CONTOUR, span, 1.0)  # type: ignore[arg-type]
+    assert encode([listed]) is None  # a list point comes back as a list (pickled), not a tuple
     spill = SpilledSegments()
     try:
         spill.append([ints])

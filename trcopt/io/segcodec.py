@@ -63,7 +63,10 @@ def encode(segments: list[Segment]) -> tuple[np.ndarray, np.ndarray, dict[str, A
         at_line, at_arc = None, []
     line_geoms = geoms if at_line is None else [geoms[j] for j in at_line]
     if line_geoms:
-        flat = [*chain.from_iterable(chain.from_iterable(map(_ENDS, line_geoms)))]
+        points = [*chain.from_iterable(map(_ENDS, line_geoms))]
+        if set(map(type, points)) - {tuple}:
+            return None  # a point given as a list or another sequence: kept as it is
+        flat = [*chain.from_iterable(points)]
         if len(flat) != 6 * len(line_geoms):
             return None  # a point without three coordinates
         values.append(flat)
@@ -74,6 +77,8 @@ def encode(segments: list[Segment]) -> tuple[np.ndarray, np.ndarray, dict[str, A
             floats[at_line, :6] = cols
     if at_arc:
         arcs = [geoms[j] for j in at_arc]
+        if {type(g.center) for g in arcs} - {tuple}:
+            return None
         flat = [*chain.from_iterable((*g.center, g.radius, g.a0, g.sweep, g.w0, g.w1) for g in arcs)]
         if len(flat) != 7 * len(at_arc):
             return None
@@ -92,7 +97,7 @@ def encode(segments: list[Segment]) -> tuple[np.ndarray, np.ndarray, dict[str, A
     if set(map(type, chain.from_iterable(values))) - {float}:
         return None
     floats[:, 7] = radius
-    if set(map(type, chain(lines, columns, runs))) - {int}:
+    if set(map(type, chain(lines, columns, runs))) - {int} or set(map(type, chain(stop, smooth))) - {bool}:
         return None
     ints[:, _K] = kind
     ints[:, _P] = np.fromiter(map(_PLANE_ID.__getitem__, map(id, planes)), np.int64, n)
