@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -35,6 +34,8 @@ __all__ = [
 def read_toml(path: str | Path, what: str) -> dict[str, Any]:
     """The table of the TOML file ``path``; ``what`` names the file's kind in errors ("tool table",
     "machine file", …). Unreadable, non-UTF-8 or invalid TOML: :class:`ConfigError` naming the file."""
+    import tomllib  # here: a run that reads no TOML file does not load the parser
+
     p = Path(path)
     try:
         return tomllib.loads(p.read_text(encoding="utf-8"))

@@ -17,6 +17,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from trcopt.verify.index import median as median_of
+
 __all__ = ["CompactGrid", "outward"]
 
 CHUNK = 1 << 14  # boxes handled at once while building
@@ -75,7 +77,7 @@ class CompactGrid:
         u0, v0 = float(lo[0]), float(lo[1])
         width, height = float(hi[0]) - u0, float(hi[1]) - v0
         self._size = (width, height)
-        median = float(np.median(size, overwrite_input=True))
+        median = median_of(size, overwrite=True)
         del size
         self.cell = cell = max(2.0 * median + 2.0 * margin, max(width, height) / n, 1e-9)
         self.origin = (u0, v0)

@@ -189,7 +189,7 @@ def _clearance(tool: SegmentTable, part_table: SegmentTable, toolpath: Sequence[
     excused = tool.radius[pk[n]] - py_max(dist[n], lim[n])
     kind = lim_kind[n]
     firsts = []
-    for code in np.unique(kind).tolist():
+    for code in np.flatnonzero(np.bincount(kind, minlength=len(KINDS))).tolist():  # the kinds present
         e = np.where(kind == code, excused, np.nan)
         pos = np.nonzero(e > 0.0)[0]
         if pos.size:

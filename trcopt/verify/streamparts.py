@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from trcopt.path import Role, Segment
+from trcopt.verify.batch import KINDS
 from trcopt.verify.families import COMPENSATED_ROLES, LEADS
 from trcopt.verify.joints import SAME_POINT_MM
 from trcopt.verify.model import points_distance, reversal_residual
@@ -71,7 +72,7 @@ class Notes:
         self.best: dict[int, tuple[float, int, Any]] = {}
 
     def offer(self, kind: np.ndarray, e: np.ndarray, key: np.ndarray, span_of: Any) -> None:
-        for code in np.unique(kind).tolist():
+        for code in np.flatnonzero(np.bincount(kind, minlength=len(KINDS))).tolist():  # the kinds present
             sel = (kind == code) & (e > 0.0)
             if not sel.any():
                 continue

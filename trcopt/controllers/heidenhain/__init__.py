@@ -7,24 +7,53 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Iterator
 
-from trcopt.config import TrcSettings
+from typing import TYPE_CHECKING, Any
+
 from trcopt.controllers.base import Controller
-from trcopt.controllers.heidenhain.m120 import compensate_heidenhain
-from trcopt.controllers.heidenhain.profile import HEIDENHAIN
-from trcopt.controllers.heidenhain.reader import read_klartext, stream_klartext
-from trcopt.errors import Diagnostic
 from trcopt.io.gcode import GcodeFlavor
-from trcopt.nc.model import Move
-from trcopt.path import Segment
+
+if TYPE_CHECKING:
+    from trcopt.config import TrcSettings
+    from trcopt.compensation.profiles import ControllerProfile
+    from trcopt.errors import Diagnostic
+    from trcopt.nc.model import Move
+    from trcopt.path import Segment
 
 __all__ = ["CONTROLLER", "HEIDENHAIN"]
 
 _BEGIN_PGM = re.compile(r"^\s*\d*\s*BEGIN\s+PGM\b", re.I | re.M)
 
 
+# the reader and the compensation are imported when a Heidenhain program is planned, not when the
+# registry is (a program of another controller never loads them)
+
+
+def __getattr__(name: str) -> ControllerProfile:
+    if name == "HEIDENHAIN":
+        from trcopt.controllers.heidenhain.profile import HEIDENHAIN
+
+        return HEIDENHAIN
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _read(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.heidenhain.reader import read_klartext
+
+    return read_klartext(*args, **kwargs)
+
+
+def _stream(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.heidenhain.reader import stream_klartext
+
+    return stream_klartext(*args, **kwargs)
+
+
 def _compensate(
     moves: Iterable[Move], settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool = True
 ) -> Iterator[Segment]:
+    from trcopt.controllers.heidenhain.m120 import compensate_heidenhain
+    from trcopt.controllers.heidenhain.profile import HEIDENHAIN
+
     return compensate_heidenhain(moves, HEIDENHAIN, settings, diagnostics, complete=complete)
 
 
@@ -33,7 +62,7 @@ CONTROLLER = Controller(
     dialect="heidenhain",
     title="Heidenhain TNC (Klartext)",
     extensions=(".h",),
-    read=read_klartext,
+    read=_read,
     compensate=_compensate,
     # plain tool-centre output for ISO-programmable TNCs: the SINUMERIK-style ISO subset
     gcode=GcodeFlavor(
@@ -45,5 +74,5 @@ CONTROLLER = Controller(
         end="M30",
     ),
     recognise=lambda text: _BEGIN_PGM.search(text) is not None,
-    stream=stream_klartext,
+    stream=_stream,
 )

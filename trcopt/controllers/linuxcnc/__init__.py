@@ -4,11 +4,10 @@
 from __future__ import annotations
 
 import re
+from typing import Any
 
 from trcopt.controllers.base import Controller
-from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
 from trcopt.controllers.linuxcnc.corners import TOLERANCE_CONCAVE_CORNER
-from trcopt.controllers.linuxcnc.reader import read_ngc, stream_ngc
 from trcopt.io.gcode import GcodeFlavor
 
 __all__ = ["CONTROLLER", "GCODE"]
@@ -37,15 +36,37 @@ GCODE = GcodeFlavor(
     continuous_path=("G64 P{tol} Q0",),
 )
 
+# the reader and the compensation are imported when a LinuxCNC program is planned, not when the
+# registry is (a program of another controller never loads them)
+
+
+def _read(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.linuxcnc.reader import read_ngc
+
+    return read_ngc(*args, **kwargs)
+
+
+def _stream(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.linuxcnc.reader import stream_ngc
+
+    return stream_ngc(*args, **kwargs)
+
+
+def _compensate(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
+
+    return compensate_linuxcnc(*args, **kwargs)
+
+
 CONTROLLER = Controller(
     name="linuxcnc",
     dialect="rs274",
     title="LinuxCNC (RS274NGC)",
     extensions=(".ngc",),
-    read=read_ngc,
-    compensate=compensate_linuxcnc,
+    read=_read,
+    compensate=_compensate,
     gcode=GCODE,
     recognise=_recognise,
     near_tangent_rad=TOLERANCE_CONCAVE_CORNER,
-    stream=stream_ngc,
+    stream=_stream,
 )

@@ -4,10 +4,9 @@ SINUMERIK rules, and ``;``-commented, block-numbered G-code."""
 
 from __future__ import annotations
 
-from trcopt.compensation.engine import compensate
+from typing import Any
+
 from trcopt.controllers.base import Controller
-from trcopt.controllers.siemens.reader import read_siemens, stream_siemens
-from trcopt.controllers.siemens.sar import expand_sar
 from trcopt.io.gcode import GcodeFlavor
 
 __all__ = ["CONTROLLER", "GCODE"]
@@ -23,14 +22,42 @@ GCODE = GcodeFlavor(
     continuous_path=("CTOL={tol}", "G642"),
 )
 
+# the reader, the SAR pass and the compensation are imported when a SINUMERIK program is planned,
+# not when the registry is (a program of another controller never loads them)
+
+
+def _read(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.siemens.reader import read_siemens
+
+    return read_siemens(*args, **kwargs)
+
+
+def _stream(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.siemens.reader import stream_siemens
+
+    return stream_siemens(*args, **kwargs)
+
+
+def _leads(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.siemens.sar import expand_sar
+
+    return expand_sar(*args, **kwargs)
+
+
+def _compensate(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.compensation.engine import compensate
+
+    return compensate(*args, **kwargs)
+
+
 CONTROLLER = Controller(
     name="siemens",
     dialect="siemens",
     title="SINUMERIK 840D sl",
     extensions=(".mpf", ".spf"),
-    read=read_siemens,
-    compensate=compensate,
+    read=_read,
+    compensate=_compensate,
     gcode=GCODE,
-    leads=expand_sar,
-    stream=stream_siemens,
+    leads=_leads,
+    stream=_stream,
 )
