@@ -191,6 +191,17 @@ def test_the_program_mode_is_the_default_and_exact_forces_stops() -> None:
     assert "corners" not in plain.extra and plain.timing.duration == pytest.approx(exact.timing.duration)
 
 
+def test_a_blending_mode_without_tolerance_reports_none() -> None:
+    # LinuxCNC G64 without P blends as far as the moves allow: no tolerance to report or to claim
+    r = plan(zigzag_ngc("G64"), file="z.ngc", options=PlanOptions(timing=False))
+    corners = r.extra["corners"]
+    assert r.ok and corners["blended"] == 24 and corners["tolerance_mm"] is None
+    assert corners["max_vertex_mm"] > 0.05
+    validate_plan(json.loads(json.dumps(r.to_json())))
+    assert "corners program without a tolerance (G64):" in r.summary()
+    assert "within" not in r.summary().split("corners program")[1].split("\n")[0]
+
+
 def test_exact_stop_modes_stop_where_the_path_is_tangent() -> None:
     body = "G1 X10 Y0 F3000\nG3 X20 Y10 I0 J10\nG1 Y30\nM2\n"
     path = plan("G21 G17 G0 X0 Y0\n" + body, file="t.ngc")

@@ -26,7 +26,10 @@ def summary_text(
         lines.append(f"{kind}cycle time {timing.duration:.3f} s on {timing.machine.name}")
     if corners:
         lines.append(
-            f"corners {corners['mode']} within {corners['tolerance_mm']} mm: {corners['blended']} blended "
+            f"corners {corners['mode']} "
+            + (f"within {corners['tolerance_mm']} mm" if corners["tolerance_mm"] is not None
+               else f"without a tolerance ({' '.join(corners.get('path_control') or ()) or 'program'})")  # fmt: skip
+            + f": {corners['blended']} blended "
             f"({corners['quintic']} G2 quintic, {corners.get('spline', 0)} on G2 splines, "
             f"{corners['arc']} circular"
             + (f"; {corners['curvature_jumps']} curvature jumps smoothed" if corners.get("curvature_jumps") else "")

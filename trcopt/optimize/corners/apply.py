@@ -81,7 +81,9 @@ def apply_corners(
     tolerances = set(control.tolerances.values())
     report = {
         "mode": mode,
-        "tolerance_mm": tolerance_mm if mode != corner_strategies.PROGRAM or not tolerances else min(tolerances),
+        # the program's own blending: the smallest tolerance it sets, None where it sets none
+        # (LinuxCNC G64 without P: as large as the moves allow)
+        "tolerance_mm": tolerance_mm if mode != corner_strategies.PROGRAM else min(tolerances, default=None),
         "tolerance_kind": kind.value,
         "path_control": list(control.words),
         "objective": None if blended.objective is None else blended.objective.value,
