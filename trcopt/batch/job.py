@@ -19,7 +19,8 @@ from trcopt.errors import TrcoptError
 
 __all__ = ["Work", "run_job", "error_row", "OUTPUT_SUFFIX"]
 
-OUTPUT_SUFFIX = {"json": ".plan.json", "gcode": ".nc"}
+# each plan's outputs, as ``trcopt plan`` writes them (csv: the feed profile, when it was timed)
+OUTPUT_SUFFIX = {"json": ".plan.json", "gcode": ".nc", "svg": ".svg", "html": ".html", "csv": ".feed.csv"}
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,7 +56,7 @@ def run_job(work: Work) -> tuple[dict[str, Any], dict[str, str]]:
         from trcopt.pipeline import plan
 
         result = plan(work.source, file=job.path, options=job.plan_options)
-        outputs = {kind: _render(kind, result, job) for kind in work.outputs}
+        outputs = {kind: text for kind in work.outputs if (text := _render(kind, result, job)) is not None}
     except TrcoptError as exc:
         return error_row(job, exc.format(job.path), time.perf_counter() - start), {}
     except Exception as exc:  # a bug: the batch goes on, the row says what happened
@@ -83,13 +84,31 @@ def run_job(work: Work) -> tuple[dict[str, Any], dict[str, str]]:
     return row, outputs
 
 
-def _render(kind: str, result: Any, job: Job) -> str:
+def _render(kind: str, result: Any, job: Job) -> str | None:
+    """The text of one output of a plan (None: a feed profile for a plan that was not timed)."""
     from trcopt import controllers
 
     if kind == "json":
         from trcopt.io import dumps_plan
 
         return dumps_plan(result.to_json())
+    if kind == "svg":
+        from trcopt.io.svg import render_svg
+
+        return render_svg(result.programmed, result.toolpath, result.diagnostics, title=job.program)
+    if kind == "html":
+        from trcopt.io.html_preview import render_html
+
+        return render_html(
+            result.programmed, result.toolpath, result.diagnostics, result.timing,
+            title=job.program, source=result.source, summary=result.summary(),
+        )
+    if kind == "csv":
+        if result.timing is None:
+            return None
+        from trcopt.io.feed_csv import csv_step, feed_csv_chunks
+
+        return "".join(feed_csv_chunks(result.timing, csv_step(result.timing.duration)))
     from trcopt.io.gcode_program import plan_to_gcode
 
     controller = controllers.get(result.dialect)

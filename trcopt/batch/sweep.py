@@ -3,7 +3,8 @@
 TOML (the cross product of every axis)::
 
     programs = ["../problems/corners/*.mpf", "part.ngc"]   # globs, relative to this file
-    outputs = ["json", "gcode"]                             # optional: each plan's files
+    outputs = ["json", "gcode", "svg"]                      # optional: each plan's files (json, gcode,
+                                                            # svg, html, csv: the feed profile)
 
     [options]            # the same for every plan
     timing = true
@@ -66,7 +67,7 @@ OPTION_NAMES: dict[str, str] = {
 _BOOLEAN = {"timing", "verify", "strict", "jerk"}
 _FLOAT = {"tolerance"}
 _PATHS = {"machine", "tool_table"}
-OUTPUT_KINDS = ("json", "gcode")
+OUTPUT_KINDS = ("json", "gcode", "svg", "html", "csv")
 DEFAULT = "default"  # ``machine = "default"``: the embedded machine
 
 
