@@ -70,9 +70,13 @@ class PathControlPlan:
 
 
 def _controls_by_line(moves: Iterable[Move]) -> dict[int, PathControl]:
+    """The path-control mode of each line's last move; lines only ever in the default exact path
+    (:data:`EXACT_PATH`) are left out (empty: the program sets no mode)."""
     out: dict[int, PathControl] = {}
     for m in moves:
-        out[m.span.line] = m.control
+        control = m.control
+        if control is not EXACT_PATH or m.span.line in out:
+            out[m.span.line] = control
     return out
 
 
@@ -86,6 +90,8 @@ def path_control_plan(
     stops: set[int] = set()
     smooth: set[int] = set()
     words: dict[str, None] = {}
+    if not controls:  # the exact path everywhere: no word, no stop, no blend
+        return PathControlPlan(blends, frozenset(), ())
     n = len(toolpath)
     for k, seg in enumerate(toolpath):
         control = controls.get(seg.span.line, EXACT_PATH)
@@ -150,6 +156,8 @@ def merge_collinear(toolpath: Sequence[Segment], moves: Iterable[Move]) -> list[
     plane and compensation whose end points all lie within ``Q`` of the line from the first start
     to the last end become that line (at most :data:`MERGE_MAX_MOVES`; span of the last move)."""
     controls = _controls_by_line(moves)
+    if not any(c.blends and c.merge_mm is not None for c in controls.values()):
+        return list(toolpath)  # no G64 Q: nothing is merged
 
     def q_of(seg: Segment) -> float | None:
         control = controls.get(seg.span.line, EXACT_PATH)
