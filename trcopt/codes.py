@@ -55,6 +55,7 @@ class Code(enum.StrEnum):
     ALARM_10758 = "10758"
     ALARM_10762 = "10762"
     ALARM_10763 = "10763"
+    ALARM_10860 = "10860"
     ALARM_12550 = "12550"
     ALARM_12640 = "12640"
     ALARM_14011 = "14011"
@@ -70,7 +71,7 @@ class Code(enum.StrEnum):
     NC_ARC_RADIUS = "NC-ARC-RADIUS"
     NC_ARC_CENTRE = "NC-ARC-CENTRE"
     NC_DISC_CLAMPED = "NC-DISC-CLAMPED"
-    NC_G95 = "NC-G95"
+    NC_FEED_MODE = "NC-FEED-MODE"
     NC_NO_END = "NC-NO-END"
     NC_NO_FEED = "NC-NO-FEED"
     NC_SAR_PARAM = "NC-SAR-PARAM"
@@ -142,6 +143,7 @@ class Code(enum.StrEnum):
     LCNC_COMP_ALREADY_ON = "LCNC-COMP-ALREADY-ON"
     LCNC_YZ_PLANE = "LCNC-YZ-PLANE"
     LCNC_ARC_AFTER_G40 = "LCNC-ARC-AFTER-G40"
+    LCNC_ARC_MISMATCH = "LCNC-ARC-MISMATCH"
     LCNC_CONTROL_MODE = "LCNC-CONTROL-MODE"
     LCNC_EXPRESSION = "LCNC-EXPRESSION"
     LCNC_PARAMETER = "LCNC-PARAMETER"
@@ -216,6 +218,8 @@ MEANING: dict[Code, str] = {
     Code.ALARM_10758: "curvature radius too small for the (variable) compensation value",
     Code.ALARM_10762: "too many blocks without plane motion in a row (MD20250)",
     Code.ALARM_10763: "warning: a block was omitted by bottleneck detection (CDON); the program continues",
+    Code.ALARM_10860: "no feedrate programmed: a feed motion after a change of feed type (G94/G95) that deleted "
+    "the F value, with no new F",
     Code.ALARM_12550: "name not defined: a variable used without (or before) its DEF, or an unknown function",
     Code.ALARM_12640: "invalid nesting of control structures (IF/ELSE/ENDIF, WHILE, FOR, REPEAT/UNTIL, LOOP do not "
     "pair)",
@@ -233,7 +237,8 @@ MEANING: dict[Code, str] = {
     Code.NC_ARC_RADIUS: "arc end point not on the circle within the end-radius tolerance, or a zero radius",
     Code.NC_ARC_CENTRE: "circular block without centre (I/J/K) or radius (CR=)",
     Code.NC_DISC_CLAMPED: "DISC above MD20220 was clamped",
-    Code.NC_G95: "feed per revolution (G95) is timed as feed per minute",
+    Code.NC_FEED_MODE: "a feed that gives no path feed: feed per revolution (G95, FAD=PR) without a spindle "
+    "speed or with the spindle not turning, an inverse-time F0; the plan stops",
     Code.NC_NO_END: "warning: the program has no end (M2/M30)",
     Code.NC_NO_FEED: "warning: no feed programmed for a G1/G2/G3 block",
     Code.NC_SAR_PARAM: "a SAR parameter (DISR, DISCL, DISRP, FAD) has an invalid value",
@@ -312,6 +317,8 @@ MEANING: dict[Code, str] = {
     Code.LCNC_COMP_ALREADY_ON: "compensation turned on while already on",
     Code.LCNC_YZ_PLANE: "compensation in the YZ plane (G19)",
     Code.LCNC_ARC_AFTER_G40: "the move right after G40 is an arc",
+    Code.LCNC_ARC_MISMATCH: "an inside corner moves the end of a queued arc off its circle (LinuxCNC's internal "
+    "check, after an entry arc)",
     Code.LCNC_CONTROL_MODE: "G61/G61.1/G64 while cutter radius compensation is on",
     Code.LCNC_EXPRESSION: "an expression LinuxCNC cannot evaluate (division by zero, a function argument out of "
     "range, not a number)",
@@ -321,11 +328,12 @@ MEANING: dict[Code, str] = {
     Code.LCNC_COMP_ACTIVE: "a block LinuxCNC refuses while cutter radius compensation is on: a change of work "
     "offset, G92, tool, tool length offset, plane or units, G53, G28/G30, a canned cycle",
     Code.LCNC_CYCLE: "a canned cycle LinuxCNC rejects: R or the depth missing, R below the bottom, a missing "
-    "P/Q/I/J/K, zero repeats, the spindle not turning",
+    "P/Q/I/J/K, zero repeats, the spindle not turning, inverse time feed (G93)",
     Code.LCNC_OFFSET: "G10/G92/G53 LinuxCNC rejects: a P or L out of range, axes missing, G53 incremental or "
     "without G0/G1",
     Code.LCNC_WORDS: "a word combination LinuxCNC rejects: two G or M codes of one modal group, axis words without a "
-    "G code using them, a D, H, L, P, Q or R word nothing uses, a feed move at zero feed",
+    "G code using them, a D, H, L, P, Q or R word nothing uses, a feed move at zero feed, at zero spindle speed "
+    "under G95 or without F under G93",
     Code.LCNC_MESSAGE: "note: a (MSG,…), (DEBUG,…) or (PRINT,…) comment, with its parameters substituted",
     Code.LCNC_ABORT: "the program aborts with its (ABORT,…) message",
     Code.TH_VALUE: "a $TC_CARR value is invalid",

@@ -67,6 +67,10 @@ class Controller:
         Its compensation leaves joints whose programmed turn is at most this (rad) as they are: the
         next line starts where the tool is (LinuxCNC 0.05; 0: every joint is compensated). The
         verification measures those lines against that construction.
+    verified_path:
+        ``(tool path, moves)`` → the path the verification measures against the programmed
+        contour, where the controlled point is not the tool centre (LinuxCNC lathe tools: their
+        tip); ``None``: the tool path itself.
     """
 
     name: str
@@ -80,6 +84,7 @@ class Controller:
     recognise: Callable[[str], bool] | None = None
     near_tangent_rad: float = 0.0
     stream: StreamFn | None = None
+    verified_path: Callable[[list[Segment], list[Move]], list[Segment]] | None = None
 
     def claims(self, text: str) -> bool:
         """True if ``text`` looks like a program of this controller."""

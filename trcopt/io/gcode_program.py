@@ -52,9 +52,12 @@ __all__ = ["plan_to_gcode", "plan_to_gcode_chunks", "program_units", "kept_words
 INCH_MM = 25.4
 _END = {"M2", "M02", "M30", "M17", "RET"}
 _AT_BLOCK_END = {"M0", "M00", "M1", "M01", "M5", "M05", "M9", "M09"}
-_PATH_CONTROL = re.compile(r"^(G9|G6[01](\.1)?|G60[1-3]|G64[1-5]?|ADIS=|ADISPOS=|CTOL=|CYCLE832)", re.I)
+_PATH_CONTROL = re.compile(r"^(G0*9(?![\d.])|G6[01](\.1)?|G60[1-3]|G64[1-5]?|ADIS=|ADISPOS=|CTOL=|CYCLE832)", re.I)
+_DROPPED = re.compile(f"{_PATH_CONTROL.pattern}|^G0*9[35]$", re.I)  # path control and feed mode: comments
 _PORTABLE = re.compile(r"^(T\d+|M\d+|S\d+(\.\d*)?|G5[4-9])$", re.I)
 _FEED = re.compile(r"^F[-+.\d]", re.I)
+_FEED_MODE = re.compile(r"^G0*(9[35])$", re.I)  # G93, G95 a reader keeps: the output's feeds are per minute
+_FEED_MODES = {"93": "inverse time", "95": "feed per revolution, F × S"}
 _DWELL = re.compile(r"^G0*4$", re.I)
 _MSG = re.compile(r'^MSG\s*\(\s*"(.*)"\s*\)$', re.I)
 _COMMENTS = re.compile(r"\([^)]*\)|;.*$|\"[^\"]*\"")
@@ -142,7 +145,7 @@ class _Group:
 def carries_words(actions: tuple[str, ...] | list[str]) -> bool:
     """Whether the G-code writer writes something of a move's ``actions`` (its words, or a comment
     on its path-control words): the moves a plan keeps for the writer."""
-    return bool(actions) and (bool(kept_words(actions)) or any(_PATH_CONTROL.match(a.strip()) for a in actions))
+    return bool(actions) and (bool(kept_words(actions)) or any(_DROPPED.match(a.strip()) for a in actions))
 
 
 def kept_words(actions: tuple[str, ...] | list[str]) -> list[str]:
@@ -152,12 +155,18 @@ def kept_words(actions: tuple[str, ...] | list[str]) -> list[str]:
     dwell = any(_DWELL.match(a) for a in actions)
     for a in actions:
         text = a.strip()
-        if not text or text.endswith(":") or text.upper() in _END or _PATH_CONTROL.match(text):
+        if not text or text.endswith(":") or text.upper() in _END or _DROPPED.match(text):
             continue
         if _FEED.match(text) and not dwell:
             continue
         words.append(text)
     return words
+
+
+def _feed_mode_note(actions: Any) -> list[str]:
+    """The comment on a program's G93/G95 (a word of its own would change the meaning of every F written)."""
+    modes = [m.group(1) for m in (_FEED_MODE.match(a.strip()) for a in actions) if m]
+    return [f"G{g} ({_FEED_MODES[g]}) of the program: the feeds are written per minute (G94)" for g in modes]
 
 
 def _translate(words: list[str], same: bool, flavor: GcodeFlavor, source_line: str) -> tuple[list[str], list[str]]:
@@ -223,6 +232,7 @@ def _groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[str]) 
             actions, notes = _with_source_words(actions, span.line, lines)
         words = kept_words(actions)
         dropped = [a for a in actions if _PATH_CONTROL.match(a.strip())]
+        notes += _feed_mode_note(actions)
         if not words and not dropped and not notes:
             continue
         g = group(span.line, span.block)
@@ -292,7 +302,7 @@ def _move_groups(result: Any, flavor: GcodeFlavor, same: bool, lines: Sequence[s
         previous = m.span
         words = kept_words(actions)
         dropped = [a for a in actions if _PATH_CONTROL.match(a.strip())]
-        g.comments += notes
+        g.comments += notes + _feed_mode_note(actions)
         if words or dropped:
             kept, comments = _translate(words, same, flavor, lines[m.span.line - 1] if here else "")
             g.before += [w for w in kept if w.upper() not in _AT_BLOCK_END]

@@ -75,6 +75,9 @@ class CompState:
     strategy: ApproachStrategy = ApproachStrategy.G460
     side_programmed: bool = False  # G40/G41/G42 written in this very block
     inch: bool = False  # the program's length unit is inch here (LinuxCNC's unit-dependent tolerances)
+    # LinuxCNC lathe tool orientation 1–8 (G18): the moves are of the imaginary tool tip, the
+    # compensated nose centre is shifted by the radius towards it (0, 9: the centre itself)
+    orientation: int = 0
 
     @property
     def effective_side(self) -> Side:

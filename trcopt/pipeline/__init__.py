@@ -275,8 +275,9 @@ def _plan(source: str, file: str, options: PlanOptions | None, freeze: Callable[
         from trcopt.verify.plan import verify_plan
 
         with stage("verifying"), collector_paused():
+            verified = toolpath if profile.verified_path is None else profile.verified_path(toolpath, moves)
             result.verification = verify_plan(
-                programmed, toolpath, moves, settings, near_tangent_rad=profile.near_tangent_rad
+                programmed, verified, moves, settings, near_tangent_rad=profile.near_tangent_rad
             )
         result.extra["verification"] = result.verification.to_json()
         # a failed family is a warning (an error under strict) at its worst block

@@ -438,6 +438,8 @@ class _Moves:
                 raise Unstreamable("its blocks run out of line order (loops, subprograms)")
             if m.control.mode is PathMode.BLEND:
                 raise Unstreamable(f"its path-control mode rounds corners ({m.control.word or 'blend'})")
+            if m.comp.orientation not in (0, 9):
+                raise Unstreamable("a lathe tool's tip is verified on the whole program")
             self._line = span.line
             yield m
 

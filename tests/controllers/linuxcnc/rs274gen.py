@@ -2,7 +2,8 @@
 work offsets (G10 L2/L20, G54…G59.3), G92/G92.1/G92.2/G92.3, G52, G53, G28/G30 and
 their .1, tool changes and length offsets (T M6, M61, G43 H, G43.1, G49, G10 L1/L10), canned
 cycles (G73 G81–G87 G89, G98/G99, L, G91), compensated contours (G41/G42 with D from the tool
-table or the spindle tool, G41.1/G42.1), predefined parameters (``#<_x>``…), DEBUG messages, and
+table or the spindle tool, G41.1/G42.1), lathe profiles in G18 (G41.1/G42.1 D L: tool
+orientations), predefined parameters (``#<_x>``…), DEBUG messages, and
 now and then a block LinuxCNC refuses (offsets, cycles or mode changes under compensation, a
 cycle without R, …). A program keeps its unit: rs274 (standalone) keeps a tool length offset's
 number through G20/G21 (its canon does not convert it).
@@ -207,6 +208,30 @@ class _Gen:
                 self.add(f"G1 X{self.n(x)} Y{self.n(y)}")
         self.add(f"G40 G1 X{self.n(x + 5)} Y{self.n(y + 5)}")
 
+    def lathe(self) -> None:
+        """A compensated lathe profile in G18 (X, Z): ``G41.1/G42.1 D L`` with a tool orientation
+        0–9 (the tip, not the nose centre, is programmed), entry by a line or an R arc, lines and R
+        arcs, G40; now and then the L word outside G18 (an error)."""
+        r = self.r
+        x, z = r.uniform(5, 20), r.uniform(-5, 5)
+        plane = "G18" if r.random() < 0.95 else "G17"
+        self.add(f"{plane} G0 X{self.n(x)} Z{self.n(z)}")
+        side = r.choice(("G41.1", "G42.1"))
+        self.add(f"{side} D{self.rnd(0.4, 3)} L{r.randrange(10)}")
+        self.comp = True
+        for _ in range(r.randrange(2, 7)):
+            nx, nz = x + r.uniform(-8, 8), z + r.uniform(4, 20)
+            if r.random() < 0.35:
+                chord = ((nx - x) ** 2 + (nz - z) ** 2) ** 0.5
+                self.add(f"{r.choice(('G2', 'G3'))} X{self.n(nx)} Z{self.n(nz)} R{self.n(chord * r.uniform(0.55, 2))}")
+            else:
+                self.add(f"G1 X{self.n(nx)} Z{self.n(nz)}")
+            x, z = nx, nz
+        self.add("G40")
+        self.add(f"G0 X{self.n(x + 5)}")
+        self.add("G17")
+        self.comp = False
+
     def language(self) -> None:
         """A loop with incremental moves, or a subroutine called with arguments."""
         r = self.r
@@ -241,7 +266,9 @@ def program(seed: int) -> str:
     g.add("%")
     g.add(("G21" if g.metric else "G20") + " G17 G90 G94 G40 G49 G80")
     g.add(f"F{g.rnd(100, 600)}")
-    features = [g.offsets, g.offsets, g.tool_change, g.cycle, g.contour, g.probe_params, g.polyline, g.language]
+    features = [
+        g.offsets, g.offsets, g.tool_change, g.cycle, g.contour, g.probe_params, g.polyline, g.language, g.lathe,
+    ]
     for _ in range(r.randrange(3, 9)):
         r.choice(features)()
         if r.random() < 0.3:

@@ -89,7 +89,7 @@ _STATE = [
 ]  # fmt: skip
 _RARE = [  # most stop the program (an error) or change much
     "F0", "G80", "G19", "G41 D1", "T1 M6", "G3 X0 Y0 R5", "G64 P0.1", "G1 X" + "9" * 400, "X-" + "1" * 330 + ".5",
-    "G1 X1 Y2 X3", "G93", "G1 X1e3", "G1 X" + "9" * 300 + "Y1",
+    "G1 X1 Y2 X3", "G93", "G1 X1e3", "G1 X" + "9" * 300 + "Y1", "G95 F0.2", "G94 F600", "S0",
 ]  # fmt: skip
 
 

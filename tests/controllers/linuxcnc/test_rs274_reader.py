@@ -57,7 +57,7 @@ def test_reader_units_incremental_and_arcs() -> None:
         ("M98 P1000 X1\nM2\nO1000\nM99\n", "M98 with other words"),
         ("G41.1 D1 G1 X10 F1\nG1 X#<_x>\n", "#<_x>"),  # the position under compensation
         ("G76 P1 Z-1 I1 J1 K1\n", "G76"),
-        ("G93\n", "G93"),
+        ("G96 S100\n", "G96"),
         ("M98 P100 L0\nM2\nO100\nM99\n", "M98 L0"),
     ],
 )

@@ -125,11 +125,20 @@ def test_approach_feeds(seg: str, fad: str, expected: list[float]) -> None:
     assert n30.feed_mm_s * 60.0 == pytest.approx(300.0)  # the SAR block's F from P4 on
 
 
-def test_fad_pr_keeps_the_value_per_revolution() -> None:
-    nc, moves, diags = expand(FEED_PROGRAM.format(seg="G341", fad="FAD=PR(0.2)"))
-    assert any(d.code == "NC-G95" for d in nc.diagnostics)
+def test_fad_pr_is_the_value_per_revolution_times_the_spindle_speed() -> None:
+    nc, moves, diags = expand("S1500 M3\n" + FEED_PROGRAM.format(seg="G341", fad="FAD=PR(0.2)"))
+    assert diags == [] and nc.diagnostics == ()
     sar = [m for m in moves if m.span.block == "N20"]
-    assert sar[2].feed_mm_s == pytest.approx(0.2)
+    assert sar[2].feed_mm_s * 60.0 == pytest.approx(0.2 * 1500)  # FAD 0.2 mm/rev at S1500
+
+
+def test_fad_pr_without_a_turning_spindle_is_an_error_at_the_fad_word() -> None:
+    text = FEED_PROGRAM.format(seg="G341", fad="FAD=PR(0.2)")
+    nc, _, _ = expand(text)
+    (err,) = nc.diagnostics
+    assert err.code == "NC-FEED-MODE" and err.span.block == "N20"
+    assert err.span.column == text.splitlines()[1].index("FAD") + 1
+    assert "no spindle speed S programmed" in err.message
 
 
 def test_approach_motion_type_before_the_sar_block() -> None:

@@ -230,10 +230,12 @@ def test_plane_change_with_trc_active_raises_10757():
     only_moves("G41 X1 F100\nG17 X2\nG40 X3\nG18 X4")  # same plane / after G40: fine
 
 
-def test_feed_modes_and_g95_warning():
-    prog = read("G95 G1 X1 F0.2")
-    assert [d.code for d in prog.diagnostics] == ["NC-G95"]
-    assert prog.moves[0].feed_mm_s == pytest.approx(0.2 / 60)
+def test_feed_per_revolution_is_f_times_s():
+    prog = read("S1000 M3\nG95 G1 X1 F0.2")
+    assert prog.diagnostics == ()
+    assert prog.moves[1].feed_mm_s == pytest.approx(0.2 * 1000 / 60)
+    prog, err = error_of("G95 G1 X1 F0.2")  # no spindle speed: no path feed
+    assert err.code == "NC-FEED-MODE" and prog.moves == ()
 
 
 def test_missing_feed_warns_once():
@@ -268,10 +270,10 @@ def test_sar_parameter_without_sar_word_warns():
     assert [d.code for d in prog.diagnostics] == ["NC-SAR-PARAM"]
 
 
-def test_fad_pr_warns_and_keeps_mm_per_rev():
-    prog = read("G147 DISR=2 FAD=PR(0.1) X10 F100")
-    assert prog.moves[0].sar.fad == (0.1, "PR")
-    assert [d.code for d in prog.diagnostics] == ["NC-G95"]
+def test_fad_pr_is_converted_with_the_spindle_speed():
+    prog = read("S600 M4 G147 DISR=2 FAD=PR(0.1) X10 F100")
+    assert prog.moves[0].sar.fad == (pytest.approx(0.1 * 600 / 60), "PR")
+    assert prog.diagnostics == ()
 
 
 # ---------------------------------------------------------------- toolholder data

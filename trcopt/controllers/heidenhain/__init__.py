@@ -6,15 +6,14 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
-
 from typing import TYPE_CHECKING, Any
 
 from trcopt.controllers.base import Controller
 from trcopt.io.gcode import GcodeFlavor
 
 if TYPE_CHECKING:
-    from trcopt.config import TrcSettings
     from trcopt.compensation.profiles import ControllerProfile
+    from trcopt.config import TrcSettings
     from trcopt.errors import Diagnostic
     from trcopt.nc.model import Move
     from trcopt.path import Segment

@@ -41,7 +41,7 @@ _NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
 _ADDRESSES = (
     "IROT", "ROT", "SCL", "CCX", "CCY", "CCZ",
     "IPA", "IPR", "PA", "PR", "LEN", "LA", "CCA", "DR2", "DL2", "DR", "DL",
-    "IX", "IY", "IZ", "IA", "IB", "IC", "X", "Y", "Z", "A", "B", "C", "R", "F", "S", "M", "L",
+    "IX", "IY", "IZ", "IA", "IB", "IC", "X", "Y", "Z", "A", "B", "C", "R", "FU", "FZ", "F", "S", "M", "L",
 )  # fmt: skip
 _NUM = re.compile(_NUMBER)
 _WORD = re.compile(rf"^({'|'.join(_ADDRESSES)})({_NUMBER})$")

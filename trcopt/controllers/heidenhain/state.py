@@ -83,7 +83,10 @@ NOT_MODELLED_M = {
     128: "TCPM",
     130: "positioning in the untilted system",
     140: "retraction along the tool axis",
+    136: "feed rate F per spindle revolution",
 }
+#: Feed words that are not modelled (the feed per minute they give depends on the spindle or the tool).
+NOT_MODELLED_FEED = {"FU": "feed per spindle revolution", "FZ": "feed per tooth"}
 
 
 #: The largest M120 look-ahead LA (TNC manual: "maximum: 99").
@@ -204,6 +207,9 @@ class ReaderState:
             m = int(w.value or 0) if w.address == "M" else None
             if m in NOT_MODELLED_M:
                 what = f"M{m} ({NOT_MODELLED_M[m]})"
+                raise BlockError(Code.HH_NOT_MODELLED, f"{what} is not modelled by trcopt", w.column)
+            if w.address in NOT_MODELLED_FEED:
+                what = f"{w.text} ({NOT_MODELLED_FEED[w.address]})"
                 raise BlockError(Code.HH_NOT_MODELLED, f"{what} is not modelled by trcopt", w.column)
         self._m120_allowed(blk)
         for w in blk.words:

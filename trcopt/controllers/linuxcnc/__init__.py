@@ -52,6 +52,12 @@ def _stream(*args: Any, **kwargs: Any) -> Any:
     return stream_ngc(*args, **kwargs)
 
 
+def _nose_centres(*args: Any, **kwargs: Any) -> Any:
+    from trcopt.controllers.linuxcnc.lathe import nose_centres
+
+    return nose_centres(*args, **kwargs)
+
+
 def _compensate(*args: Any, **kwargs: Any) -> Any:
     from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
 
@@ -69,4 +75,5 @@ CONTROLLER = Controller(
     recognise=_recognise,
     near_tangent_rad=TOLERANCE_CONCAVE_CORNER,
     stream=_stream,
+    verified_path=_nose_centres,
 )

@@ -48,13 +48,13 @@ from trcopt.controllers.linuxcnc.corners import (
     ARC_SWEEP_SLACK,
     ARC_SWEEP_SLACK_MM,
     HALF_PI,
-    MESSAGES,
     TOLERANCE_CONCAVE_CORNER,
     TWO_PI,
     CompensationStop,
     angle_to,
     arc_arc_corner,
     arc_line_corner,
+    check_moved_arc_end,
     entry_arc_center,
     find_turn,
     line_arc_corner,
@@ -64,6 +64,7 @@ from trcopt.controllers.linuxcnc.corners import (
     tool_inside_arc,
     turn_of,
 )
+from trcopt.controllers.linuxcnc.lathe import moved, tip_shift
 from trcopt.errors import Diagnostic, Severity, SourceSpan
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.primitives import Arc, Line
@@ -91,6 +92,7 @@ class _Queued:
     prog_dir: Vec2 = (0.0, 0.0)  # lines: programmed plane direction (0, 0: never reversed)
     prog_sweep: float = 0.0  # arcs: programmed sweep, rad (0: not checked)
     compensated: bool = True  # False: the exit move and moves with compensation off
+    tip_start: bool = True  # a lathe tool's shift moves the start too (not the entry's: the tool is there)
 
     @property
     def is_arc(self) -> bool:
@@ -113,28 +115,33 @@ class _LinuxCncCompensator:
         self.queue: list[_Queued] = []
         self.endpoint: Vec2 = (0.0, 0.0)  # start of the first queued move
         self.inch = False  # the unit of the block being compensated (LinuxCNC's arc-sweep slack)
+        self.tip: Vec3 | None = None  # a lathe tool's nose centre → tip shift (trcopt.controllers.linuxcnc.lathe)
 
     # -- output -----------------------------------------------------------------------------
     def _segment(self, q: _Queued) -> Segment | None:
         m = q.move
+        start, end, c = q.start, q.end, q.center
         if q.compensated:
             side, radius = (Side.LEFT if self.side > 0 else Side.RIGHT), self.r
+            if self.tip is not None:
+                d = self.tip
+                start, end = moved(start, d) if q.tip_start else start, moved(end, d)
+                c = None if c is None else (c[0] + d[0], c[1] + d[1])
         else:
             side, radius = _OFF, 0.0
-        c = q.center
         if c is not None:
-            rad = math.hypot(q.end[0] - c[0], q.end[1] - c[1])
-            sweep = find_turn(q.start[:2], c, q.turn, q.end[:2])
+            rad = math.hypot(end[0] - c[0], end[1] - c[1])
+            sweep = find_turn(start[:2], c, q.turn, end[:2])
             if rad <= 0.0:
-                geom: Line | Arc = Line(q.start, q.end)
+                geom: Line | Arc = Line(start, end)
                 if geom.length <= 1e-12:
                     return None
             else:
-                geom = Arc(c, rad, angle_to(c, q.start[:2]), sweep, q.start[2], q.end[2])
+                geom = Arc(c, rad, angle_to(c, start[:2]), sweep, start[2], end[2])
             return new_segment(geom, self.plane, q.role, m.span, m.feed_mm_s, side, radius)
-        if math.dist(q.start, q.end) <= 1e-12:  # Line.length
+        if math.dist(start, end) <= 1e-12:  # Line.length
             return None
-        line = Line(q.start, q.end)
+        line = Line(start, end)
         role = q.role
         if m.feed_mm_s is None and role is Role.CONTOUR:
             role = Role.RAPID
@@ -156,6 +163,7 @@ class _LinuxCncCompensator:
         for k, q in enumerate(self.queue):
             if q.is_arc:
                 assert q.center is not None
+                check_moved_arc_end(q.center, q.end, p, self.inch, span)
                 if q.prog_sweep:
                     sweep = find_turn(self.endpoint, q.center, q.turn, p)
                     slack = ARC_SWEEP_SLACK if self.inch else ARC_SWEEP_SLACK_MM
@@ -202,7 +210,7 @@ class _LinuxCncCompensator:
         except CompensationStop as stop:
             self.queue.clear()
             yield from out  # those final before the error
-            self.diags.append(Diagnostic(Severity.ERROR, stop.code, MESSAGES[stop.code], stop.span))
+            self.diags.append(Diagnostic(Severity.ERROR, stop.code, str(stop), stop.span))
             return
         yield from out
 
@@ -234,9 +242,12 @@ class _LinuxCncCompensator:
             self.side = 1 if want is Side.LEFT else -1
             self.r = comp.effective_radius
             self._set_plane(m.plane)
+            self.tip = tip_shift(comp.orientation, self.r, self.plane)
             self.exit_pending = False
         elif want is Side.OFF and self.on:
             self._flush_where_the_tool_is(m.span, out)
+            if self.tip is not None and self.cur is not None and not self.first:
+                self.cur = moved(self.cur, self.tip)  # the next move starts at the tip
             self.on = False
             self.exit_pending = not self.first and self.r > 0.0
             self.first = False
@@ -312,7 +323,7 @@ class _LinuxCncCompensator:
         alpha = angle_to(c, p) + self.side * HALF_PI
         e = point_at(p, self.r, alpha)
         self.endpoint = c
-        self.queue.append(_Queued(self.cur, (e[0], e[1], end[2]), m, Role.APPROACH))
+        self.queue.append(_Queued(self.cur, (e[0], e[1], end[2]), m, Role.APPROACH, tip_start=False))
         self.first = False
         self.cur, self.prog = (e[0], e[1], end[2]), end
 
@@ -333,6 +344,8 @@ class _LinuxCncCompensator:
         new_center = entry_arc_center(c, e, center, m.span)
         sweep = find_turn(c, new_center, turn, e)
         self.endpoint = c
+        if self.tip is not None:  # a lathe tool first moves from its tip to the shifted arc start
+            self.queue.append(_Queued(self.cur, self.cur, m, Role.APPROACH, tip_start=False))
         end_e = (e[0], e[1], end[2])
         self.queue.append(_Queued(self.cur, end_e, m, Role.APPROACH, center=new_center, turn=turn, prog_sweep=sweep))
         self.first = False

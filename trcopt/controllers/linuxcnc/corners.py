@@ -43,6 +43,7 @@ __all__ = [
     "line_arc_corner",
     "arc_arc_corner",
     "entry_arc_center",
+    "check_moved_arc_end",
 ]
 
 TOLERANCE_CONCAVE_CORNER = 0.05  # rad: joins flatter than this are left untouched
@@ -67,15 +68,29 @@ MESSAGES: dict[str, str] = {
     Code.LCNC_COMP_ALREADY_ON: "Cannot turn cutter radius comp on when already on",
     Code.LCNC_YZ_PLANE: "Cannot use YZ plane with cutter radius comp",
     Code.LCNC_ARC_AFTER_G40: "The move just after exiting cutter compensation mode must be straight, not an arc",
+    Code.LCNC_ARC_MISMATCH: "BUG: cutter compensation has generated an invalid arc with mismatched radii",
 }
+ARC_MISMATCH = 0.01  # program units: a queued arc's end may move off its circle by this much
 
 
 class CompensationStop(Exception):
-    """A LinuxCNC error: ``code`` (a key of :data:`MESSAGES`) at the block ``span``."""
+    """A LinuxCNC error: ``code`` (a key of :data:`MESSAGES`) at the block ``span``; ``detail``
+    follows the text where LinuxCNC's message carries numbers."""
 
-    def __init__(self, code: Code, span: SourceSpan) -> None:
-        super().__init__(MESSAGES[code])
+    def __init__(self, code: Code, span: SourceSpan, detail: str = "") -> None:
+        super().__init__(MESSAGES[code] + (" " + detail if detail else ""))
         self.code, self.span = code, span
+
+
+def check_moved_arc_end(center: Vec2, end: Vec2, p: Vec2, inch: bool, span: SourceSpan) -> None:
+    """LinuxCNC's check when an inside corner moves the end of a queued arc to ``p``: the new end
+    must lie on the arc's circle within :data:`ARC_MISMATCH` (it need not after an entry arc, whose
+    centre is not the programmed one, and the moves LinuxCNC queues before it)."""
+    r1 = math.hypot(end[0] - center[0], end[1] - center[1])
+    r2 = math.hypot(p[0] - center[0], p[1] - center[1])
+    unit = 25.4 if inch else 1.0
+    if abs(r1 - r2) > ARC_MISMATCH * unit:
+        raise CompensationStop(Code.LCNC_ARC_MISMATCH, span, f"r1 {r1 / unit:f} r2 {r2 / unit:f}")
 
 
 def point_at(p: Vec2, r: float, angle: float) -> Vec2:

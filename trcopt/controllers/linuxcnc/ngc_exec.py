@@ -1,15 +1,16 @@
 """One RS274NGC block executed as LinuxCNC's interpreter does.
 
 LinuxCNC does not execute a block's words in the order written but in a fixed order
-(``execute_block``): the comment (messages), F, S, T, ``M6``/``M61``, the spindle and coolant
+(``execute_block``): the comment (messages), the feed mode, F, S, T, ``M6``/``M61``, the spindle and coolant
 M codes, then the G codes — dwell, plane, units, cutter compensation, tool length offset
 (``G43``/``G43.1``/``G43.2``/``G49``), work system (``G54``…``G59.3``), path control, distance
 modes, retract mode (``G98``/``G99``), the non-modal group (``G10``, ``G28``/``G30`` and their
 ``.1``, ``G52``, ``G92`` family), then the motion (``G0``…``G3``, canned cycles, ``G80``, with
 ``G53``), and last the stops (``M0``/``M1``/``M2``/``M30``/``M60``). Words are checked first as
 LinuxCNC's ``check_items`` does (two codes of one modal group, a word no code uses), with its
-messages. Known LinuxCNC codes trcopt does not model (``G33``, ``G38.x``, ``G76``, ``G93``,
-``M62``…, …) stop the read with ``NC-UNSUPPORTED`` naming the code.
+messages. The feed modes G93/G94/G95 act first (:mod:`~trcopt.controllers.linuxcnc.ngc_feed`). Known
+LinuxCNC codes trcopt does not model (``G33``, ``G38.x``, ``G76``, ``G96``, ``M62``…, …) stop the
+read with ``NC-UNSUPPORTED`` naming the code.
 """
 
 from __future__ import annotations
@@ -19,6 +20,14 @@ from collections.abc import Callable
 
 from trcopt.codes import Code
 from trcopt.controllers.linuxcnc.ngc_cycles import CYCLES, CycleError, run_cycle
+from trcopt.controllers.linuxcnc.ngc_feed import (
+    check_cycle_feed,
+    check_cycle_speed,
+    check_feed,
+    inverse_time_arc,
+    inverse_time_line,
+    set_feed_mode,
+)
 from trcopt.controllers.linuxcnc.ngc_motion import INCH, NgcState, Stop, arc_move, compensation_on, path_control
 from trcopt.controllers.linuxcnc.ngc_offsets import SYSTEM_WORDS, OffsetError
 from trcopt.controllers.linuxcnc.ngc_words import Words
@@ -54,10 +63,15 @@ def execute_block(w: Words, span: SourceSpan, st: NgcState, emit: Emit, arc_tol:
         out.append(move)
         emit(move)
 
-    # F, S, T
+    # the feed mode (G93/G94/G95: trcopt.controllers.linuxcnc.ngc_feed), F, S, T
+    feed_mode = w.g.get(5)
+    if feed_mode is not None:
+        set_feed_mode(feed_mode, st, actions)
     if "F" in w.values:
-        st.feed = w.values["F"]
-        actions.append(f"F{st.feed:g}")
+        f = w.values["F"]
+        if st.feed_mode != 93.0:  # inverse time: the F of a G1/G2/G3 gives its move's feed
+            st.feed = f
+        actions.append(f"F{f:g}")
     if "S" in w.values:
         st.speed = w.values["S"]
         actions.append(f"S{st.speed:g}")
@@ -301,10 +315,13 @@ def _comp(st: NgcState, side_programmed: bool) -> CompState:
     last = _LAST_COMP[0]
     if (
         last is not None and last.radius is st.radius_mm and last.side is st.side
-        and last.side_programmed is side_programmed and last.inch is inch
+        and last.side_programmed is side_programmed and last.inch is inch and last.orientation == st.orientation
     ):  # fmt: skip
         return last
-    comp = CompState(side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed, inch=inch)
+    comp = CompState(
+        side=st.side, radius=st.radius_mm, tool_active=True, side_programmed=side_programmed, inch=inch,
+        orientation=st.orientation,
+    )
     _LAST_COMP[0] = comp
     return comp
 
@@ -366,7 +383,9 @@ def _motion(w: Words, st: NgcState, span: SourceSpan, emit: Emit, actions: list[
     if motion in _CYCLES:
         if st.feed == 0.0:
             raise Stop(Code.LCNC_WORDS, "Cannot feed with zero feed rate", w.gcol(1))
+        check_cycle_feed(w, st)
         _comp_check(st, "Cannot use canned cycles with cutter compensation on", w.gcol(1))
+        check_cycle_speed(w, st)
         clearance = st.peck_clearance.get(motion, 0.05 if st.machine_unit() == INCH else 1.0)
         plane = st.plane.name if st.plane.name in ("G17", "G18", "G19") else st.plane.value
         try:
@@ -394,21 +413,24 @@ def _motion(w: Words, st: NgcState, span: SourceSpan, emit: Emit, actions: list[
     iu, iv, _ = st.plane.axes
     plane_programmed = "XYZ"[iu] in w.values or "XYZ"[iv] in w.values
     if motion in (2.0, 3.0):
-        if st.feed == 0.0:
-            raise Stop(Code.LCNC_WORDS, "Cannot make arc with zero feed rate", w.gcol(1))
+        check_feed(w, st, True)
         if not axes and not any(k in w.values for k in "IJKR"):
             raise Stop(Code.NC_SYNTAX, "G2/G3 without end point or centre")
         move = arc_move(
             st, w.values, st.pos, end, span, _comp(st, side_programmed), tuple(actions), plane_programmed,
             motion == 3.0, arc_tol,
         )  # fmt: skip
+        if st.feed_mode == 93.0:
+            move = inverse_time_arc(move, w, st)
         emit(_shifted(move, st))
         st.pos = end
         return
+    if motion == 1.0:
+        check_feed(w, st, False)  # also a G1 without axis words
     if not axes:
         return
-    if motion == 1.0 and st.feed == 0.0:
-        raise Stop(Code.LCNC_WORDS, "Cannot do g1 with zero feed rate", w.gcol(1))
+    if motion == 1.0 and st.feed_mode == 93.0:
+        inverse_time_line(st, end, w)
     _straight(st, end, motion == 0.0, span, emit, tuple(actions), side_programmed, plane_programmed)
 
 

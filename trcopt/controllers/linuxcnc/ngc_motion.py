@@ -56,10 +56,12 @@ class NgcState:
     absolute: bool = True
     ijk_absolute: bool = False
     motion: float | None = None  # the G code of the motion mode (None: G80 / none yet)
-    feed: float = 0.0  # program units per minute
-    speed: float = 0.0
+    feed: float = 0.0  # LinuxCNC's feed rate: program units per minute (G94, G93), per revolution (G95)
+    speed: float = 0.0  # the spindle speed S, rev/min
+    feed_mode: float = 94.0  # G93 inverse time, G94 units per minute, G95 units per revolution
     side: Side = Side.OFF
     radius_mm: float = 0.0  # signed
+    orientation: int = 0  # lathe tool orientation of the compensation (0: a mill tool)
     selected_tool: int | None = None
     spindle_tool: int = 0  # the tool in the spindle (0: none)
     spindle: int = 0  # 1 clockwise, -1 counter-clockwise, 0 stopped
@@ -71,6 +73,9 @@ class NgcState:
 
     @property
     def feed_mm_s(self) -> float | None:
+        """The path feed (mm/s; None: none): under G95 the feed per revolution times the speed."""
+        if self.feed_mode == 95.0:
+            return self.feed * self.speed * self.unit / 60.0 if self.feed and self.speed else None
         return self.feed * self.unit / 60.0 if self.feed else None
 
     def machine_unit(self) -> float:
@@ -114,15 +119,18 @@ def compensation_on(g: float, values: Mapping[str, float], st: NgcState, tools: 
     """G40 off; G41/G42 with the tool ``D`` (none or D0: the tool in the spindle); G41.1/G42.1
     with the diameter ``D`` in program units (LinuxCNC's ``convert_cutter_compensation``)."""
     if g == 40.0:
-        st.side, st.radius_mm = Side.OFF, 0.0
+        st.side, st.radius_mm, st.orientation = Side.OFF, 0.0, 0
         return
     side = Side.LEFT if g in (41.0, 41.1) else Side.RIGHT
     if g in (41.1, 42.1):
         if "D" not in values:
             raise Stop(Code.NC_SYNTAX, f"G{g:g} with no D word")
-        if "L" in values:
-            raise Stop(Code.NC_UNSUPPORTED, "lathe tool orientation (L word) is not supported")
-        st.side, st.radius_mm = side, values["D"] * st.unit / 2.0
+        orientation = 0
+        if "L" in values:  # a lathe tool's orientation (LinuxCNC reads L as a whole number)
+            if st.plane is not Plane.G18:
+                raise Stop(Code.LCNC_WORDS, f"G{g:g} with L word, but plane is not G18")
+            orientation = int(values["L"])
+        st.side, st.radius_mm, st.orientation = side, values["D"] * st.unit / 2.0, orientation
         return
     if "D" in values:
         d = values["D"]
@@ -140,9 +148,9 @@ def compensation_on(g: float, values: Mapping[str, float], st: NgcState, tools: 
         if found is None:
             raise Stop(Code.LCNC_TOOL_NOT_FOUND, f"Requested tool {number} not found in the tool table")
         entry = found
-    if entry.orientation not in (0, 9):
-        raise Stop(Code.NC_UNSUPPORTED, f"lathe tool T{number} (orientation {entry.orientation}) is not supported")
-    st.side, st.radius_mm = side, st.user_mm(entry.diameter) / 2.0
+    if entry.orientation not in (0, 9) and st.plane is not Plane.G18:
+        raise Stop(Code.LCNC_WORDS, f"G{g:g} with lathe tool, but plane is not G18")
+    st.side, st.radius_mm, st.orientation = side, st.user_mm(entry.diameter) / 2.0, entry.orientation
 
 
 def _r_centre(s2: tuple[float, float], e2: tuple[float, float], radius: float, ccw: bool) -> tuple[float, float]:

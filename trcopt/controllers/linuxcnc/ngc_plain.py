@@ -7,8 +7,9 @@ at least one axis, every number within a float's range) is what
 :func:`~trcopt.controllers.linuxcnc.ngc_exec.execute_block` would run as: the feed (an ``F``
 action), the motion mode, one straight move from the current point to the end point (absolute or
 incremental), nothing else. :func:`execute_plain` does exactly that when the block cannot fail
-in the state it runs in; otherwise it changes nothing and returns False, and the caller reads and
-executes the line as any other (which then raises the error LinuxCNC gives, at its column).
+in the state it runs in (under G94: with G93/G95 the feed is not the F, the line runs the general
+way); otherwise it changes nothing and returns False, and the caller reads and executes the line as
+any other (which then raises the error LinuxCNC gives, at its column).
 """
 
 from __future__ import annotations
@@ -37,6 +38,8 @@ def execute_plain(
     ``execute_block`` runs it and set the parameters a block leaves (#5420…#5422, whether
     compensation is on); False (and nothing changed) when it would not simply move."""
     g, x, y, z, f = plain
+    if st.feed_mode != 94.0:
+        return False  # G93/G95: the feed of the move is not F (trcopt.controllers.linuxcnc.ngc_feed)
     if g is None:
         motion = st.motion  # the modal motion: only G0/G1 are plain (arcs, cycles, none: not)
         if motion != 0.0 and motion != 1.0:

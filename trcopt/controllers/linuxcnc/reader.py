@@ -7,10 +7,11 @@ The language is LinuxCNC's: ``( )`` and ``;`` comments, block delete ``/``,
 (:mod:`~trcopt.controllers.linuxcnc.ngc_exec`): G0 G1 G2 G3 (I/J/K or R, P turns, helices), G4,
 G17–G19, G20/G21, G40–G42 and G41.1/G42.1, G43/G43.1/G43.2/G49, G54–G59.3, G10 L1/L10/L2/L20,
 G28/G30 and G28.1/G30.1, G52, G53, G92/G92.1/G92.2/G92.3, G61/G61.1/G64, G73 G74 G81–G87 G89 with
-G98/G99 (:mod:`~trcopt.controllers.linuxcnc.ngc_cycles`), G80, G90/G91, G90.1/G91.1, G94; F, S,
+G98/G99 (:mod:`~trcopt.controllers.linuxcnc.ngc_cycles`), G80, G90/G91, G90.1/G91.1, G93/G94/G95
+(:mod:`~trcopt.controllers.linuxcnc.ngc_feed`: inverse time, units per minute, per revolution); F, S,
 T, M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M48 M49 M60 M61; ``(MSG,…)``, ``(DEBUG,…)``, ``(PRINT,…)``
 (kept as ``LCNC-MESSAGE`` notes), ``(ABORT,…)``. Codes LinuxCNC has and trcopt does not model
-(G33, G38.x, G76, G93/G95, M62…, M98/M99, …) stop the read with ``NC-UNSUPPORTED`` naming them.
+(G33, G38.x, G76, G96, M62…, M98/M99, …) stop the read with ``NC-UNSUPPORTED`` naming them.
 
 Conventions: the program starts at (0, 0, 0) in G17, G90, G91.1 and mm (until G20); lengths are
 converted to mm here, feeds to mm/s. The moves are in the G54 system as it stands at the start
@@ -249,9 +250,9 @@ def _readonly(name: str, st: NgcState) -> float | None:
         "_imperial": lambda: float(u != 1.0),
         "_absolute": lambda: float(st.absolute),
         "_incremental": lambda: float(not st.absolute),
-        "_inverse_time": lambda: 0.0,
-        "_units_per_minute": lambda: 1.0,
-        "_units_per_rev": lambda: 0.0,
+        "_inverse_time": lambda: float(st.feed_mode == 93.0),
+        "_units_per_minute": lambda: float(st.feed_mode == 94.0),
+        "_units_per_rev": lambda: float(st.feed_mode == 95.0),
         "_coord_system": lambda: 530.0 + 10 * off.index if off.index < 7 else 584.0 + off.index,
         "_tool_offset": lambda: float(any(off.tool)),
         "_retract_r_plane": lambda: float(not st.cycle.retract_old),

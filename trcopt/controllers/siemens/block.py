@@ -85,7 +85,11 @@ class Block:
     disr: float | None = None
     discl: tuple[float, bool] | None = None
     disrp: tuple[float, bool] | None = None
-    fad: tuple[float, str] | None = None
+    fad: tuple[float, str] | None = None  # FAD value as written and its mode ("", "PM", "PR")
+    fad_col = 0
+    feed_type: tuple[int, int] | None = None  # G94/G95 (group 15): (G number, column)
+    speed: tuple[float, int] | None = None  # S / S1= of the master spindle: (value, column)
+    spindle: tuple[int, int] | None = None  # M3/M4/M5 (M1=…) of the master spindle: (M number, column)
     sar_param: Word | None = None  # first SAR parameter word (for the warning without SAR)
     end = False
     machine = 0  # column of G53/G153/SUPA (0: none): the axis values are machine positions

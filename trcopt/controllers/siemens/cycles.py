@@ -63,6 +63,8 @@ class DrillingCycles:
 
         def _finish(self, b: Block, span: SourceSpan) -> None: ...
 
+        def _feed_missing(self, span: SourceSpan) -> None: ...
+
     def _cycle_word(self, word: Word, b: Block, span: SourceSpan) -> None:
         if b.cycle is not None:
             raise fail(Code.NC_SYNTAX, "two cycle calls in one block", self._at(span, word))
@@ -102,6 +104,7 @@ class DrillingCycles:
         saved = (st.motion, self.arc_ccw, self.circle, self.absolute)
         feed = st.feed_mm_s
         if feed is None:
+            self._feed_missing(span)  # F deleted by a change of feed type, G95 without spindle
             raise fail(Code.NC_NO_FEED, f"{name}: no feed programmed (F) for the drilling moves", span)
         try:
             self._drill(name, p, rfp + sdis, depth, k, span)

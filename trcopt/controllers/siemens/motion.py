@@ -316,12 +316,13 @@ class MotionGeometry:
         p = self.path
         path = (p.group, p.adis, p.adispos, p.ctol, p.word)
         return (self.absolute, st.motion, self.arc_ccw, self.circle, st.plane, self.geom_scale, self.feed_scale,
-                self.frame, self.settable, path)  # fmt: skip
+                self.frame, self.settable, path, self.feed_type)  # type: ignore[attr-defined]  # fmt: skip
 
     def _restore(self, saved: tuple[object, ...]) -> None:
         st = self.state
         (self.absolute, st.motion, self.arc_ccw, self.circle, st.plane, self.geom_scale, self.feed_scale,
-         self.frame, self.settable, path) = saved  # type: ignore[assignment]  # fmt: skip
+         self.frame, self.settable, path, feed_type) = saved  # type: ignore[assignment]  # fmt: skip
+        self._restore_feed_type(feed_type)  # type: ignore[attr-defined]  # G94/G95: F deleted on a change
         self._plane_uv = (st.plane.axes[0], st.plane.axes[1])
         p = self.path
         p.group, p.adis, p.adispos, p.ctol, p.word = path  # type: ignore[misc]

@@ -6,7 +6,8 @@ are made as they run, :mod:`trcopt.controllers.siemens.lazyscan`) and run by
 :mod:`trcopt.controllers.siemens.runner` (program counter, subprograms), which gives each block's
 moves as it has run; each block's words are dispatched to the handlers of
 :mod:`trcopt.controllers.siemens.words`, and :meth:`SiemensReader._finish` completes the block:
-plane change (alarm 10757), T/D selection, compensation side (tool type check), feed, end point,
+plane change (alarm 10757), T/D selection, compensation side (tool type check), feed
+(:mod:`~trcopt.controllers.siemens.feedrate`: G94/G95, S, M3/M4/M5, alarm 10860), end point,
 arc centre (I/J/K, ``=AC``, ``CR=``) with the end radius check, SAR words, and the
 :class:`~trcopt.nc.model.Move`. The first error stops reading; warnings are collected.
 """
@@ -269,14 +270,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
                         SourceSpan(self.file, span.line, col, span.block),
                     )
             st.side = side
-        if b.feed is not None and not b.dwell:  # with G4, F is the dwell time
-            if b.feed <= 0.0:
-                raise fail(
-                    Code.NC_SYNTAX,
-                    f"feed must be positive, got F{b.feed:g}",
-                    SourceSpan(self.file, span.line, b.feed_col, span.block),
-                )
-            st.feed_mm_s = b.feed * self.feed_scale / 60.0
+        self._apply_feed(b, span)  # feed type, F, S, M3/M4 (trcopt.controllers.siemens.feedrate)
         if b.motion is not None:
             code = b.motion[0]
             st.motion = MOTION_KINDS.get(code, _ARC)
@@ -304,7 +298,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
                 disr=b.disr,
                 discl=b.discl,
                 disrp=b.disrp,
-                fad=b.fad,
+                fad=self._fad_feed(b, span),
                 end_programmed=(ax is not None, ay is not None, az is not None),
             )
         elif b.sar_param is not None:
@@ -318,9 +312,11 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             feed = None
         else:
             feed = st.feed_mm_s
-            if feed is None and kind is not _NONE and not self._warned_no_feed:
-                self._warned_no_feed = True
-                self._warn(Code.NC_NO_FEED, "no feed programmed (F) for a G1/G2/G3 block", span)
+            if feed is None and kind is not _NONE:
+                self._feed_missing(span)  # F deleted by a change of feed type, G95 without spindle
+                if not self._warned_no_feed:
+                    self._warned_no_feed = True
+                    self._warn(Code.NC_NO_FEED, "no feed programmed (F) for a G1/G2/G3 block", span)
         move = Move(
             kind=kind,
             start=pos,
@@ -341,6 +337,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
         if kind is not _NONE:
             self.last_motion = move
         st.position = end
+        self._after_feed(b, span)  # M5 at the block end
 
     def _comp(self, side_programmed: bool) -> CompState:
         """The compensation snapshot; a frame that mirrors the plane swaps G41 and G42."""

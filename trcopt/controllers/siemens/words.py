@@ -20,6 +20,7 @@ from collections.abc import Callable
 from trcopt.codes import Code
 from trcopt.controllers.siemens.block import Block, WordReader
 from trcopt.controllers.siemens.cycles import CYCLES, DrillingCycles
+from trcopt.controllers.siemens.feedrate import FEED_TYPE_G, FeedRate
 from trcopt.controllers.siemens.frames import SETTABLE_G
 from trcopt.controllers.siemens.lexer import Expr, Word
 from trcopt.controllers.siemens.path_control import PATH_CONTROL_G, cycle832_arguments
@@ -68,7 +69,7 @@ def _fmt(value: float) -> str:
 Handler = Callable[["SiemensWords", Word, Block, SourceSpan], None]
 
 
-class SiemensWords(DrillingCycles, WordReader):
+class SiemensWords(FeedRate, DrillingCycles, WordReader):
     """Word handlers of the SINUMERIK reader (state lives in :class:`~.block.WordReader`)."""
 
     # ------------------------------------------------------------------ word handlers
@@ -156,12 +157,6 @@ class SiemensWords(DrillingCycles, WordReader):
             self.geom_scale = _INCH if g in (70, 700) else 1.0
             if g in (700, 710):
                 self.feed_scale = _INCH if g == 700 else 1.0
-        elif g == 94:
-            pass
-        elif g == 95:
-            self._warn(
-                Code.NC_G95, "feed per revolution not supported, treated as G94", self._at(span, word)
-            )
         elif g == 4:
             b.dwell = True
             b.actions.append(word.text.upper())
@@ -268,6 +263,8 @@ class SiemensWords(DrillingCycles, WordReader):
         b.actions.append(f"M{m}")
         if m in _END_M:
             b.end = True
+        elif m in (3, 4, 5):  # the master spindle (trcopt.controllers.siemens.feedrate)
+            b.spindle = (m, word.column)
 
     def _return(self, word: Word, b: Block, span: SourceSpan) -> None:
         self._keyword(word, span)
@@ -275,7 +272,7 @@ class SiemensWords(DrillingCycles, WordReader):
         b.end = True
 
     def _action(self, word: Word, b: Block, span: SourceSpan) -> None:
-        """S (spindle speed) and H (auxiliary function): kept as ``"S1000"``, ``"H2"``."""
+        """H (auxiliary function): kept as ``"H2"``."""
         b.actions.append(word.name + _fmt(self._number(word, span)))
 
     def _offn(self, word: Word, b: Block, span: SourceSpan) -> None:
@@ -341,15 +338,9 @@ class SiemensWords(DrillingCycles, WordReader):
             value = inner
         else:
             value = self._number(word, span)
-        if mode == "PR":
-            self._warn(
-                Code.NC_G95,
-                "FAD=PR (feed per revolution) not supported; value kept in mm/rev",
-                self._at(span, word),
-            )
-            b.fad = (float(value), mode)
-        else:
-            b.fad = (float(value) * self.feed_scale / 60.0, mode)
+        # in mm/s when the block is complete (the feed type and S of the block act first)
+        b.fad = (float(value), mode)
+        b.fad_col = word.column
 
     def _toolholder(self, word: Word, b: Block, span: SourceSpan) -> None:
         if word.name == "TCARR":
@@ -404,8 +395,10 @@ def _g_table() -> dict[int, Callable[[SiemensWords, int, Word, Block, SourceSpan
     for g in _SAR_CONTOURS:
         table[g] = SiemensWords._g_sar
     modes = [*_CORNERS, *_STRATEGIES, *_SAR_SIDES, *_SAR_SEGMENTATION, 90, 91, 70, 71, 700, 710]
-    for g in [*modes, 94, 95, 4]:
+    for g in [*modes, 4]:
         table[g] = SiemensWords._g_mode
+    for g in FEED_TYPE_G:
+        table[g] = SiemensWords._g_feed_type
     for g in [9, *PATH_CONTROL_G]:
         table[g] = SiemensWords._g_path
     for g in [53, 153, 110, 111, 112, *SETTABLE_G]:
@@ -429,7 +422,9 @@ WORD_HANDLERS: dict[str, Handler] = {
     "T": SiemensWords._tool,
     "D": SiemensWords._edge,
     "M": SiemensWords._m,
-    "S": SiemensWords._action,
+    "S": SiemensWords._speed,
+    "S1": SiemensWords._speed,
+    "M1": SiemensWords._spindle_m,
     "H": SiemensWords._action,
     "N": SiemensWords._block_number,
     "OFFN": SiemensWords._offn,
