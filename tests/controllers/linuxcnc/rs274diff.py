@@ -45,7 +45,11 @@ _KEPT = {
     "STRAIGHT_TRAVERSE",
     "STRAIGHT_FEED",
     "ARC_FEED",
+    "SET_FEED_RATE",
+    "SET_FEED_MODE",
+    "SET_SPINDLE_SPEED",
 }
+FEED_TOL = 2e-4  # relative: rs274 prints feeds and speeds to 4 decimals
 
 
 def run_rs274(text: str, tbl: Path = SIM_TBL) -> dict:
@@ -73,6 +77,10 @@ def canon(run: dict) -> tuple[list[dict], tuple[str, int | None] | None]:
     pos = (0.0, 0.0, 0.0)
     tlo = (0.0, 0.0, 0.0)
     moves: list[dict] = []
+    rate, per_rev, speed = 0.0, False, 0.0  # SET_FEED_RATE, SET_FEED_MODE(…, 1), SET_SPINDLE_SPEED
+
+    def feed() -> float:  # mm/min of a feed move: the rate (per revolution: times the speed)
+        return rate * (speed if per_rev else 1.0) * unit
 
     def fix(p: tuple[float, float, float]) -> tuple[float, float, float]:
         b = base or (0.0, 0.0, 0.0)
@@ -99,13 +107,22 @@ def canon(run: dict) -> tuple[list[dict], tuple[str, int | None] | None]:
             new = (v[0] * unit, v[1] * unit, v[2] * unit)
             pos = (pos[0] + tlo[0] - new[0], pos[1] + tlo[1] - new[1], pos[2] + tlo[2] - new[2])
             tlo = new
+        elif name == "SET_FEED_RATE":
+            rate = _floats(args)[0]
+        elif name == "SET_FEED_MODE":
+            per_rev = _floats(args)[1] == 1.0
+        elif name == "SET_SPINDLE_SPEED":
+            speed = _floats(args)[1]
         elif name == "SELECT_PLANE":
             plane = "XY" if "XY" in args else "XZ" if "XZ" in args else "YZ"
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             v = _floats(args)
             end = fix((v[0], v[1], v[2]))
             moves.append(
-                {"type": "rapid" if name == "STRAIGHT_TRAVERSE" else "line", "start": pos, "end": end, "unit": unit}
+                {
+                    "type": "rapid" if name == "STRAIGHT_TRAVERSE" else "line", "start": pos, "end": end,
+                    "unit": unit, "feed": None if name == "STRAIGHT_TRAVERSE" else feed(),
+                }
             )
             pos = end
         elif name == "ARC_FEED":
@@ -127,6 +144,7 @@ def canon(run: dict) -> tuple[list[dict], tuple[str, int | None] | None]:
                     "rotation": int(rot),
                     "plane": plane,
                     "unit": unit,
+                    "feed": feed(),
                 }
             )
             pos = end
@@ -203,6 +221,10 @@ def compare(text: str, run: dict, tbl: Path = SIM_TBL) -> tuple[bool, str]:
                 return False, f"move {i}: arc direction (line {s.span.line})"
         if dev > tol:
             return False, f"move {i}: off by {dev:.4g} mm (line {s.span.line})"
+        if m.get("feed") is not None and s.feed_mm_s is not None:
+            ours_f = s.feed_mm_s * 60.0
+            if abs(ours_f - m["feed"]) > FEED_TOL * max(m["feed"], 1.0) + 1e-4 * m["unit"]:
+                return False, f"move {i}: feed rs274 {m['feed']:.6g} / trcopt {ours_f:.6g} mm/min (line {s.span.line})"
     return True, ""
 
 

@@ -3,7 +3,7 @@ work offsets (G10 L2/L20, G54…G59.3), G92/G92.1/G92.2/G92.3, G52, G53, G28/G30
 their .1, tool changes and length offsets (T M6, M61, G43 H, G43.1, G49, G10 L1/L10), canned
 cycles (G73 G81–G87 G89, G98/G99, L, G91), compensated contours (G41/G42 with D from the tool
 table or the spindle tool, G41.1/G42.1), lathe profiles in G18 (G41.1/G42.1 D L: tool
-orientations), predefined parameters (``#<_x>``…), DEBUG messages, and
+orientations), feed modes (G95 with S, G93 with F on every move), predefined parameters (``#<_x>``…), DEBUG messages, and
 now and then a block LinuxCNC refuses (offsets, cycles or mode changes under compensation, a
 cycle without R, …). A program keeps its unit: rs274 (standalone) keeps a tool length offset's
 number through G20/G21 (its canon does not convert it).
@@ -232,6 +232,22 @@ class _Gen:
         self.add("G17")
         self.comp = False
 
+    def feed_mode(self) -> None:
+        """Moves in G95 (units per revolution: F × S, now and then S0 — an error) or G93 (inverse
+        time: F on every feed move, now and then missing — an error), then back to G94."""
+        r = self.r
+        if r.random() < 0.5:
+            speed = 0 if r.random() < 0.1 else r.randrange(100, 3000)
+            self.add(f"S{speed} M3")
+            self.add(f"G95 G1 X{self.rnd(-30, 30)} Y{self.rnd(-30, 30)} F{self.rnd(0.01, 0.3)}")
+            self.add(f"G2 X{self.rnd(-30, 30)} Y{self.rnd(-30, 30)} R{self.rnd(45, 60)}")
+        else:
+            self.add(f"G93 G1 X{self.rnd(-30, 30)} Y{self.rnd(-30, 30)} F{r.uniform(1, 200):.3f}")
+            self.add(f"G3 X{self.rnd(-30, 30)} Y{self.rnd(-30, 30)} R{self.rnd(45, 60)} F{r.uniform(1, 200):.3f}")
+            if r.random() < 0.1:
+                self.add(f"G1 X{self.rnd(-30, 30)}")
+        self.add(f"G94 F{self.rnd(100, 600)}")
+
     def language(self) -> None:
         """A loop with incremental moves, or a subroutine called with arguments."""
         r = self.r
@@ -268,6 +284,7 @@ def program(seed: int) -> str:
     g.add(f"F{g.rnd(100, 600)}")
     features = [
         g.offsets, g.offsets, g.tool_change, g.cycle, g.contour, g.probe_params, g.polyline, g.language, g.lathe,
+        g.feed_mode,
     ]
     for _ in range(r.randrange(3, 9)):
         r.choice(features)()
