@@ -73,7 +73,6 @@ class Code(enum.StrEnum):
     NC_DISC_CLAMPED = "NC-DISC-CLAMPED"
     NC_FEED_MODE = "NC-FEED-MODE"
     NC_NO_END = "NC-NO-END"
-    NC_NO_FEED = "NC-NO-FEED"
     NC_SAR_PARAM = "NC-SAR-PARAM"
     NC_TOOL_TYPE = "NC-TOOL-TYPE"
     NC_INTERNAL = "NC-INTERNAL"
@@ -218,8 +217,8 @@ MEANING: dict[Code, str] = {
     Code.ALARM_10758: "curvature radius too small for the (variable) compensation value",
     Code.ALARM_10762: "too many blocks without plane motion in a row (MD20250)",
     Code.ALARM_10763: "warning: a block was omitted by bottleneck detection (CDON); the program continues",
-    Code.ALARM_10860: "no feedrate programmed: a feed motion after a change of feed type (G94/G95) that deleted "
-    "the F value, with no new F",
+    Code.ALARM_10860: "no feedrate programmed: a feed motion with no F in force (none programmed yet, or a change "
+    "of feed type G94/G95 deleted it)",
     Code.ALARM_12550: "name not defined: a variable used without (or before) its DEF, or an unknown function",
     Code.ALARM_12640: "invalid nesting of control structures (IF/ELSE/ENDIF, WHILE, FOR, REPEAT/UNTIL, LOOP do not "
     "pair)",
@@ -240,7 +239,6 @@ MEANING: dict[Code, str] = {
     Code.NC_FEED_MODE: "a feed that gives no path feed: feed per revolution (G95, FAD=PR) without a spindle "
     "speed or with the spindle not turning, an inverse-time F0; the plan stops",
     Code.NC_NO_END: "warning: the program has no end (M2/M30)",
-    Code.NC_NO_FEED: "warning: no feed programmed for a G1/G2/G3 block",
     Code.NC_SAR_PARAM: "a SAR parameter (DISR, DISCL, DISRP, FAD) has an invalid value",
     Code.NC_TOOL_TYPE: "the tool type is not a milling tool; the compensation side check does not apply",
     Code.NC_INTERNAL: "an internal error while reading a block (a bug: please report the program)",

@@ -63,7 +63,7 @@ def test_gotof_skips_the_plunge_and_conditional_jumps_loop():
 
 
 def test_structures_and_section_repetition():
-    ms = moves("DEF INT KK\nFOR KK=0 TO 2\nIF KK==1\nG1 X1 F100\nELSE\nG1 X=10+KK\nENDIF\nENDFOR\n"
+    ms = moves("DEF INT KK\nFOR KK=0 TO 2\nIF KK==1\nG1 X1 F100\nELSE\nG1 X=10+KK F100\nENDIF\nENDFOR\n"
                "R1=0\nWHILE R1<2\nR1=R1+1\nENDWHILE\nREPEAT\nR1=R1-1\nUNTIL R1==0\nLOOP\nR1=R1+1\n"
                "IF R1>1 GOTOF OUT\nENDLOOP\nOUT: G1 Y1\nSTART: G91 Y1\nG90\nREPEAT START P=2\n"
                "ONE: G1 Z1\nREPEATB ONE P=2\nM30")  # fmt: skip

@@ -238,10 +238,13 @@ def test_feed_per_revolution_is_f_times_s():
     assert err.code == "NC-FEED-MODE" and prog.moves == ()
 
 
-def test_missing_feed_warns_once():
-    prog = read("G1 X1\nX2")
-    assert [d.code for d in prog.diagnostics] == ["NC-NO-FEED"]
-    assert prog.moves[0].feed_mm_s is None
+def test_a_feed_move_without_any_f_is_alarm_10860():
+    prog, err = error_of("G0 X5\nG1 X1\nX2")
+    assert err.alarm == 10860 and err.span.line == 2 and "no feedrate programmed" in err.message
+    assert len(prog.moves) == 1  # the rapid before it
+    prog, err = error_of("G0 X0 Y0 Z5\nCYCLE81(10, 0, 2, -5)")  # a drilling cycle's feed moves as well
+    assert err.alarm == 10860
+    assert read("G0 X5\nG1 X1 F100\nX2").diagnostics == ()  # F in force from the block on
 
 
 # ---------------------------------------------------------------- SAR words

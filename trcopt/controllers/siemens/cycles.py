@@ -104,8 +104,7 @@ class DrillingCycles:
         saved = (st.motion, self.arc_ccw, self.circle, self.absolute)
         feed = st.feed_mm_s
         if feed is None:
-            self._feed_missing(span)  # F deleted by a change of feed type, G95 without spindle
-            raise fail(Code.NC_NO_FEED, f"{name}: no feed programmed (F) for the drilling moves", span)
+            self._feed_missing(span)  # alarm 10860 (no F in force), G95 without a turning spindle
         try:
             self._drill(name, p, rfp + sdis, depth, k, span)
             self._cycle_move(MoveKind.RAPID, rtp * k, span)

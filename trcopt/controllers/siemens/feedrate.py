@@ -182,8 +182,8 @@ class FeedRate:
         return None
 
     def _feed_missing(self, span: SourceSpan) -> None:
-        """Raise for a feed motion without a path feed when the reason is an error: F deleted by a
-        change of feed type (10860), G95 without a turning spindle (``NC-FEED-MODE``)."""
+        """Raise for a feed motion without a path feed: F deleted by a change of feed type or never
+        programmed (10860), G95 without a turning spindle (``NC-FEED-MODE``)."""
         if self.deleted is not None:
             raise AlarmError(
                 alarm(
@@ -201,6 +201,9 @@ class FeedRate:
                 "feed F × S is zero",
                 span,
             )
+        raise AlarmError(
+            alarm(10860, "no feedrate programmed: a G1/G2/G3 block needs a path feed F (none is in force)", span)
+        )
 
     def _fad_feed(self, b: Block, span: SourceSpan) -> tuple[float, str] | None:
         """The SAR infeed feed FAD of the block in mm/s with its mode, or None."""

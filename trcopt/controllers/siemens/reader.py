@@ -97,7 +97,6 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
         self.feed_scale = 1.0  # G700: inch feeds
         self._plane_uv = Plane.G17.axes[:2]  # indices of the active plane's u and v axes
         self.arc_ccw = False  # G3 (True) or G2 (False), modal with the motion group
-        self._warned_no_feed = False
         self.variables = Variables(_RESERVED)
         self._executable = False  # a DEF after the first executable block is alarm 14500
 
@@ -313,10 +312,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
         else:
             feed = st.feed_mm_s
             if feed is None and kind is not _NONE:
-                self._feed_missing(span)  # F deleted by a change of feed type, G95 without spindle
-                if not self._warned_no_feed:
-                    self._warned_no_feed = True
-                    self._warn(Code.NC_NO_FEED, "no feed programmed (F) for a G1/G2/G3 block", span)
+                self._feed_missing(span)  # alarm 10860 (no F in force), G95 without a turning spindle
         move = Move(
             kind=kind,
             start=pos,
