@@ -278,3 +278,11 @@ def test_contour_rows_equal_contour_blocks(program: Path) -> None:
     assert rows == blocks
     assert [r.programmed[j] for j in comp_rows] == blocks.compensated
     assert [r.programmed[j] for j in part_rows] == blocks.part
+
+
+def test_a_tool_element_starting_at_its_arcs_centre() -> None:
+    # the programmed arc's tangent is undefined there: the verification takes its start tangent
+    span = SourceSpan("random.mpf", 1, 1, "N1")
+    programmed = [Segment(Arc((0.0, 0.0), 1.0, 0.0, 1.0), Plane.G17, Role.CONTOUR, span, 10.0)]
+    toolpath = [Segment(Line((0.0, 0.0, 0.0), (1.0, 0.0, 0.0)), Plane.G17, Role.CONTOUR, span, 10.0, Side.LEFT, 1.0)]
+    _same(programmed, toolpath, None, 0.0)

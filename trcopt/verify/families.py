@@ -67,6 +67,8 @@ def _programmed_tangent_at(prog: Line | Arc, p: tuple[float, float]) -> tuple[fl
         return prog.direction2()
     ru, rv = p[0] - prog.center[0], p[1] - prog.center[1]
     n = math.hypot(ru, rv)
+    if n == 0.0:  # at the centre every direction is as far from the arc: its start tangent
+        return prog.start_tangent()
     return (-rv / n * prog.sense, ru / n * prog.sense)
 
 
