@@ -42,6 +42,21 @@ def test_g17_arc_i_j_incremental():
     assert m.center == pytest.approx((0.0, 5.0, 0.0))
 
 
+def test_a_rounded_centre_is_corrected_onto_the_chords_bisector():
+    # the end radius differs by 0.0005 mm (within 0.002): the control keeps the end point and
+    # moves the centre so that the circle runs through both points
+    (m,) = only_moves("G3 X0 Y10 I0.0004 J5.0003 F100")
+    cu, cv, _ = m.center
+    assert math.hypot(cu, cv) == pytest.approx(math.hypot(cu - 0.0, cv - 10.0), abs=1e-12)
+    assert cv == pytest.approx(5.0, abs=1e-12) and cu == pytest.approx(0.0004, abs=1e-12)
+    from trcopt.pipeline import plan
+
+    result = plan("G17 G0 X0 Y0\nG1 X10 F100\nG3 X10 Y20 I0.0004 J10.0003\nG1 X0\nM30", file="t.mpf")
+    assert result.ok and not result.warnings and result.verification.ok
+    (arc,) = [s for s in result.toolpath if s.kind == "arc"]
+    assert arc.geometry.point2(1.0) == pytest.approx((10.0, 20.0), abs=1e-12)
+
+
 def test_g18_arc_uses_k_and_i():
     moves = only_moves("G0 Z10\nG18 G3 X10 Z0 I0 K-10 F100\nG2 X0 Z-10 K0 I-10")
     a, b = moves[1], moves[2]

@@ -238,8 +238,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
                 raise AlarmError(
                     alarm(
                         10757,
-                        f"plane change {st.plane.value} -> {plane.value} "
-                        "while tool radius compensation is active",
+                        f"plane change {st.plane.value} -> {plane.value} while tool radius compensation is active",
                         SourceSpan(self.file, span.line, col, span.block),
                     )
                 )
@@ -284,8 +283,12 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
         if b.sar is not None and self.frame is not IDENTITY:
             f = self.frame
             wi = plane.axes[2]
-            if f.m[wi][wi] != 1.0 or f.t[wi] != 0.0 or abs(abs(f.m[plane.axes[0]][plane.axes[0]] ** 2
-                                                            + f.m[plane.axes[1]][plane.axes[0]] ** 2) - 1.0) > 1e-12:
+            if (
+                f.m[wi][wi] != 1.0
+                or f.t[wi] != 0.0
+                or abs(abs(f.m[plane.axes[0]][plane.axes[0]] ** 2 + f.m[plane.axes[1]][plane.axes[0]] ** 2) - 1.0)
+                > 1e-12
+            ):
                 raise fail(Code.NC_FRAME, "SAR under a frame that scales the plane or moves the applicate is not "
                            "modelled by trcopt", span)  # fmt: skip
         sar = None
@@ -359,17 +362,13 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             if any(c is not None for c in b.centre):
                 raise fail(Code.NC_SYNTAX, "CR= together with I/J/K in one block", col_span)
             try:
-                cu, cv = arc_centre_from_radius(
-                    (su, sv), (eu, ev), b.cr, ccw, tol, self.tol.coincidence_mm
-                )
+                cu, cv = arc_centre_from_radius((su, sv), (eu, ev), b.cr, ccw, tol, self.tol.coincidence_mm)
             except ValueError as exc:
                 raise fail(Code.NC_ARC_RADIUS, str(exc), col_span) from None
         else:
             u, v, w = plane.axes
             if not any(b.centre[i] is not None for i in (u, v)):
-                raise fail(
-                    Code.NC_ARC_CENTRE, "circle without centre (I/J/K) or radius (CR=)", col_span
-                )
+                raise fail(Code.NC_ARC_CENTRE, "circle without centre (I/J/K) or radius (CR=)", col_span)
             if b.centre[w] is not None:
                 self._warn(
                     Code.NC_UNSUPPORTED_WORD,
@@ -383,9 +382,7 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
             cu, cv = coords
         radius_start = math.hypot(su - cu, sv - cv)
         if radius_start <= self.tol.coincidence_mm:
-            raise fail(
-                Code.NC_ARC_RADIUS, "circle radius is zero (centre at the start point)", col_span
-            )
+            raise fail(Code.NC_ARC_RADIUS, "circle radius is zero (centre at the start point)", col_span)
         mismatch = arc_radius_mismatch((su, sv), (eu, ev), (cu, cv), tol)
         if mismatch is not None:
             raise fail(
@@ -395,7 +392,26 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
                 f"{abs(mismatch[0] - mismatch[1]):.4f} > {tol} mm)",
                 col_span,
             )
+        cu, cv = _corrected_centre((su, sv), (eu, ev), (cu, cv))
         return plane.to_xyz((cu, cv, sw))
+
+
+def _corrected_centre(
+    start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float]
+) -> tuple[float, float]:
+    """The centre of a circle whose end radius differs from its start radius within the tolerance:
+    moved onto the perpendicular bisector of the chord (the nearest such point), so that the circle
+    runs through the programmed end point — the control takes the end point as right and corrects
+    the centre (SINUMERIK circle end point monitoring). A closed circle keeps its centre."""
+    du, dv = end[0] - start[0], end[1] - start[1]
+    chord2 = du * du + dv * dv
+    if chord2 == 0.0:
+        return centre
+    mu, mv = 0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])
+    along = ((centre[0] - mu) * du + (centre[1] - mv) * dv) / chord2
+    if along == 0.0:
+        return centre
+    return (centre[0] - along * du, centre[1] - along * dv)
 
 
 def read_siemens(text: str, options: ReadOptions) -> NcProgram:
