@@ -19,7 +19,7 @@ later and earlier blocks when the neighbour alone does not resolve the corner.
 from __future__ import annotations
 
 from trcopt.compensation import corners as cn
-from trcopt.compensation.elements import LAM_TOL, ElemKind, Piece
+from trcopt.compensation.elements import LAM_TOL, ElemKind, Piece, _point2
 from trcopt.compensation.lookahead import (
     Join,
     Pending,
@@ -71,7 +71,14 @@ class JunctionResolver:
             near = [h for h in intersections(a.off_end, b.off_start) if vec.dist(h.point, joint) <= 10 * self.tol]
             if near and last.main:
                 best = min(near, key=lambda h: vec.dist(h.point, joint))
-                return Join(i + 1, [Piece(b, b.role, best.lam_b, 1.0)], end=(len(chain) - 1, best.lam_a))
+                nxt = Piece(b, b.role, best.lam_b, 1.0)
+                # nearly parallel offsets: the two parameters of their intersection give points up
+                # to ~eps/δ apart; a line starts where the other element now ends (no gap)
+                if isinstance(b.prog, Line):
+                    nxt.p0 = _point2(last.end_carrier(), best.lam_a)
+                elif isinstance(a.prog, Line):
+                    last.p1 = _point2(b.off_start, best.lam_b)
+                return Join(i + 1, [nxt], end=(len(chain) - 1, best.lam_a))
             nxt = Piece(b, b.role, 0.0, 1.0)
             if isinstance(b.prog, Line):
                 nxt.p0 = last.end_point()
