@@ -188,6 +188,7 @@ class Code(enum.StrEnum):
     USAGE = "USAGE"
     IO = "IO"
     OUTPUT = "OUTPUT"
+    MEMORY = "MEMORY"
     CONFIG = "CONFIG"
     GEOMETRY = "GEOMETRY"
     GCODE = "GCODE"
@@ -368,6 +369,7 @@ MEANING: dict[Code, str] = {
     Code.USAGE: "a command-line or API argument is invalid (the valid options are listed)",
     Code.IO: "a file cannot be read",
     Code.OUTPUT: "an output file cannot be written (nothing is left half-written)",
+    Code.MEMORY: "the plan needs more memory than the machine has (nothing is written)",
     Code.CONFIG: "a machine, tool-table or settings file is invalid (the key is named)",
     Code.GEOMETRY: "invalid geometry (zero-length element, inconsistent arc)",
     Code.GCODE: "a G-code writer option is invalid or a segment cannot be written",

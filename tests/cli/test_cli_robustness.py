@@ -33,6 +33,13 @@ def test_a_binary_file_is_not_a_text_file(tmp_path: Path, capsys, data: bytes) -
         assert f"{prog}:1:10: error NC-NOT-TEXT (N10): not a text file (NUL byte at offset 9)" in err
 
 
+def test_a_nul_byte_after_a_form_feed_names_the_block(tmp_path: Path, capsys) -> None:
+    prog = tmp_path / "prog.mpf"
+    prog.write_bytes(b"G0 X0\n\x0cN10 G17\x00 X1\n")
+    assert main(["plan", str(prog)]) == 2
+    assert f"{prog}:2:9: error NC-NOT-TEXT (N10): not a text file" in capsys.readouterr().err
+
+
 def test_a_file_of_control_characters_is_placed_at_the_first_one(tmp_path: Path, capsys) -> None:
     prog = tmp_path / "prog.mpf"
     prog.write_bytes(b"N10 G1 X1\nN20 \x01\x02\x03\x04\x05\x06\x07\x08\xff\x0e\x0f\x10\n")
@@ -115,6 +122,20 @@ def test_ctrl_c_while_the_command_is_loaded_exits_130_without_a_traceback(monkey
         pytest.fail("the interrupt escaped main()")
     assert status == 130
     assert capsys.readouterr().err == ""
+
+
+def test_running_out_of_memory_is_one_error_line_and_no_output(tmp_path: Path, monkeypatch, capsys) -> None:
+    import trcopt.verify.plan
+
+    def exhausted(*args: object, **kwargs: object) -> object:
+        raise MemoryError
+
+    monkeypatch.setattr(trcopt.verify.plan, "verify_plan", exhausted)
+    out = tmp_path / "plan.json"
+    status = main(["plan", str(GEAR), "--no-timing", "--json", str(out)])
+    err = capsys.readouterr().err
+    assert status == 2 and err.startswith("trcopt: error MEMORY: out of memory") and "Traceback" not in err
+    assert os.listdir(tmp_path) == []
 
 
 def test_ctrl_c_while_writing_leaves_no_file(tmp_path: Path, monkeypatch, capsys) -> None:

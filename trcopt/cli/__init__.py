@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from typing import NamedTuple
 
 from trcopt import __version__
-from trcopt.cli.common import EXIT_USAGE, err_exc
+from trcopt.cli.common import EXIT_USAGE, err, err_exc
 from trcopt.errors import TrcoptError
 
 __all__ = ["main", "build_parser", "COMMANDS", "Command"]
@@ -87,6 +87,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         # Ctrl-C: every output is written atomically, so none is left half-written; no traceback
         return EXIT_INTERRUPTED
+    except MemoryError:
+        # a resource limit, not a bug: a clear line (every output is staged, none is half-written)
+        err(
+            "out of memory: the plan needs more memory than this machine has (a program that runs one "
+            "contour very many times makes the verification compare every pass with every other)",
+            code="MEMORY",
+        )
+        return EXIT_USAGE
     except BrokenPipeError:
         # the reader of standard output went away (``trcopt plan X | head -1``): stop quietly.
         # Python's SIGPIPE note: point stdout at devnull so the flush at exit raises nothing

@@ -38,7 +38,7 @@ def program_lines(text: str) -> list[str]:
     return lines
 
 
-_BLOCK_NUMBER = re.compile(rb"[ \t]*(N[0-9]+|[0-9]+)(?=[ \t]|$)", re.IGNORECASE)
+_BLOCK_NUMBER = re.compile(rb"[ \t\f\v]*(N[0-9]+|[0-9]+)(?=[ \t\f\v]|$)", re.IGNORECASE)
 
 
 def _byte_place(raw: bytes, offset: int, file: str) -> SourceSpan:
