@@ -8,8 +8,10 @@ that knows the controllers by name.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from typing import Any
 
 from trcopt.config import TrcSettings
 from trcopt.errors import Diagnostic
@@ -19,7 +21,7 @@ from trcopt.nc.model import Move, NcProgram
 from trcopt.nc.stream import MoveStream
 from trcopt.path import Segment
 
-__all__ = ["Controller", "ReadFn", "StreamFn", "LeadPassFn", "CompensateFn"]
+__all__ = ["Controller", "ReadFn", "StreamFn", "LeadPassFn", "CompensateFn", "deferred"]
 
 ReadFn = Callable[[str, ReadOptions], NcProgram]
 """Program text → canonical moves; never raises for a problem in the program (diagnostics)."""
@@ -32,6 +34,18 @@ LeadPassFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic]], Iterator[
 
 CompensateFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic], bool], Iterator[Segment]]
 """``(moves, settings, diagnostics, complete)`` → tool-centre segments; an alarm stops the stream."""
+
+
+def deferred(module: str, name: str) -> Callable[..., Any]:
+    """The function ``name`` of ``module``, imported when it is first called: a controller's
+    reader and compensation load with the first program of that controller, not with the
+    registry (a short run's start-up is mostly imports)."""
+
+    def call(*args: Any, **kwargs: Any) -> Any:
+        return getattr(importlib.import_module(module), name)(*args, **kwargs)
+
+    call.__name__ = call.__qualname__ = name
+    return call
 
 
 @dataclass(frozen=True, slots=True)

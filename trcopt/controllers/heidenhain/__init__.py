@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Iterator
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from trcopt.controllers.base import Controller
+from trcopt.controllers.base import Controller, deferred
 from trcopt.io.gcode import GcodeFlavor
 
 if TYPE_CHECKING:
@@ -35,18 +35,6 @@ def __getattr__(name: str) -> ControllerProfile:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def _read(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.heidenhain.reader import read_klartext
-
-    return read_klartext(*args, **kwargs)
-
-
-def _stream(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.heidenhain.reader import stream_klartext
-
-    return stream_klartext(*args, **kwargs)
-
-
 def _compensate(
     moves: Iterable[Move], settings: TrcSettings, diagnostics: list[Diagnostic], complete: bool = True
 ) -> Iterator[Segment]:
@@ -61,7 +49,7 @@ CONTROLLER = Controller(
     dialect="heidenhain",
     title="Heidenhain TNC (Klartext)",
     extensions=(".h",),
-    read=_read,
+    read=deferred("trcopt.controllers.heidenhain.reader", "read_klartext"),
     compensate=_compensate,
     # plain tool-centre output for ISO-programmable TNCs: the SINUMERIK-style ISO subset
     gcode=GcodeFlavor(
@@ -73,5 +61,5 @@ CONTROLLER = Controller(
         end="M30",
     ),
     recognise=lambda text: _BEGIN_PGM.search(text) is not None,
-    stream=_stream,
+    stream=deferred("trcopt.controllers.heidenhain.reader", "stream_klartext"),
 )

@@ -4,9 +4,8 @@
 from __future__ import annotations
 
 import re
-from typing import Any
 
-from trcopt.controllers.base import Controller
+from trcopt.controllers.base import Controller, deferred
 from trcopt.controllers.linuxcnc.corners import TOLERANCE_CONCAVE_CORNER
 from trcopt.io.gcode import GcodeFlavor
 
@@ -36,44 +35,17 @@ GCODE = GcodeFlavor(
     continuous_path=("G64 P{tol} Q0",),
 )
 
-# the reader and the compensation are imported when a LinuxCNC program is planned, not when the
-# registry is (a program of another controller never loads them)
-
-
-def _read(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.linuxcnc.reader import read_ngc
-
-    return read_ngc(*args, **kwargs)
-
-
-def _stream(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.linuxcnc.reader import stream_ngc
-
-    return stream_ngc(*args, **kwargs)
-
-
-def _nose_centres(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.linuxcnc.lathe import nose_centres
-
-    return nose_centres(*args, **kwargs)
-
-
-def _compensate(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.linuxcnc.compensation import compensate_linuxcnc
-
-    return compensate_linuxcnc(*args, **kwargs)
-
-
 CONTROLLER = Controller(
     name="linuxcnc",
     dialect="rs274",
     title="LinuxCNC (RS274NGC)",
     extensions=(".ngc",),
-    read=_read,
-    compensate=_compensate,
+    # loaded with the first LinuxCNC program (a program of another controller never loads them)
+    read=deferred("trcopt.controllers.linuxcnc.reader", "read_ngc"),
+    compensate=deferred("trcopt.controllers.linuxcnc.compensation", "compensate_linuxcnc"),
     gcode=GCODE,
     recognise=_recognise,
     near_tangent_rad=TOLERANCE_CONCAVE_CORNER,
-    stream=_stream,
-    verified_path=_nose_centres,
+    stream=deferred("trcopt.controllers.linuxcnc.reader", "stream_ngc"),
+    verified_path=deferred("trcopt.controllers.linuxcnc.lathe", "nose_centres"),
 )

@@ -4,9 +4,7 @@ SINUMERIK rules, and ``;``-commented, block-numbered G-code."""
 
 from __future__ import annotations
 
-from typing import Any
-
-from trcopt.controllers.base import Controller
+from trcopt.controllers.base import Controller, deferred
 from trcopt.io.gcode import GcodeFlavor
 
 __all__ = ["CONTROLLER", "GCODE"]
@@ -22,42 +20,15 @@ GCODE = GcodeFlavor(
     continuous_path=("CTOL={tol}", "G642"),
 )
 
-# the reader, the SAR pass and the compensation are imported when a SINUMERIK program is planned,
-# not when the registry is (a program of another controller never loads them)
-
-
-def _read(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.siemens.reader import read_siemens
-
-    return read_siemens(*args, **kwargs)
-
-
-def _stream(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.siemens.reader import stream_siemens
-
-    return stream_siemens(*args, **kwargs)
-
-
-def _leads(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.controllers.siemens.sar import expand_sar
-
-    return expand_sar(*args, **kwargs)
-
-
-def _compensate(*args: Any, **kwargs: Any) -> Any:
-    from trcopt.compensation.engine import compensate
-
-    return compensate(*args, **kwargs)
-
-
 CONTROLLER = Controller(
     name="siemens",
     dialect="siemens",
     title="SINUMERIK 840D sl",
     extensions=(".mpf", ".spf"),
-    read=_read,
-    compensate=_compensate,
+    # loaded with the first SINUMERIK program (a program of another controller never loads them)
+    read=deferred("trcopt.controllers.siemens.reader", "read_siemens"),
+    compensate=deferred("trcopt.compensation.engine", "compensate"),
     gcode=GCODE,
-    leads=_leads,
-    stream=_stream,
+    leads=deferred("trcopt.controllers.siemens.sar", "expand_sar"),
+    stream=deferred("trcopt.controllers.siemens.reader", "stream_siemens"),
 )
