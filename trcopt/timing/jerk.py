@@ -6,7 +6,9 @@ rest) is re-solved as a :class:`~trcopt.timing.jerk_problem.JerkProblem`: a CasA
 the path-speed profile with per-axis velocity, acceleration and jerk limits, warm-started from the
 acceleration-limited profile (node placement and speed caps: :mod:`trcopt.timing.jerk_grid`). A
 section of collinear lines with one feed is solved in closed form instead: the rest-to-rest
-double-S under the line's scalar limits is its exact optimum (:mod:`trcopt.timing.jerk_lines`). The
+double-S under the line's scalar limits is its exact optimum (:mod:`trcopt.timing.jerk_lines`). With
+``engine="fir"`` the other sections get the filtered acceleration-limited profile of
+:mod:`trcopt.timing.jerk_fir` instead (checked against every limit; the NLP where it fails). The
 result, :class:`JerkTrajectory`, satisfies the :class:`~trcopt.trajectory.Trajectory` protocol like
 :class:`~trcopt.timing.TimedTrajectory` (``duration``, ``sample``, ``evaluate``, ``check_limits``,
 ``segments_with_times``, ``to_json``); its samples carry the jerk, and the report values are in
@@ -49,6 +51,8 @@ from trcopt.path import Segment
 from trcopt.progress import iterate
 from trcopt.solution import Solution
 from trcopt.timing.checks import axis_triple, max_jerk, path_deviation, path_ratios, worst
+from trcopt.timing.jerk_fir import fir_section
+from trcopt.timing.jerk_fir_rows import FirLimits
 from trcopt.timing.jerk_lines import line_section_limits, line_section_profile
 from trcopt.timing.jerk_problem import JerkProblem, SectionProfile, section_label
 from trcopt.timing.jerk_report import JERK_MEASURE, KNOT_RULE, METHOD, JerkLimitReport, JerkSamples, jerk_limits
@@ -56,7 +60,9 @@ from trcopt.timing.path import PathArrays, path_derivatives
 from trcopt.timing.sections import Section, axis_limits, path_speed_caps, segment_feeds, split_sections
 from trcopt.timing.trajectory import TimedTrajectory, check_step, sample_times
 
-__all__ = ["jerk_limited", "JerkTrajectory"]
+__all__ = ["jerk_limited", "JerkTrajectory", "ENGINES"]
+
+ENGINES = ("nlp", "fir")  # jerk_limited(engine=...): the solver of the sections that are not one line
 
 
 class JerkTrajectory:
@@ -301,6 +307,7 @@ def jerk_limited(
     tangent_tol_rad: float = 1e-6,
     workers: int = 1,
     closed_form: bool = True,
+    engine: str = "nlp",
 ) -> JerkTrajectory:
     """Jerk-limited time-optimal feed along a tool-centre path.
 
@@ -327,6 +334,11 @@ def jerk_limited(
         Solve the sections that are one straight line (collinear lines with one speed cap) by the
         closed-form double-S of :mod:`trcopt.timing.jerk_lines` instead of the NLP (``False``: the
         NLP on every section).
+    engine:
+        ``"nlp"`` (default): the other sections by the NLP. ``"fir"``: by the filtered
+        acceleration-limited profile of :mod:`trcopt.timing.jerk_fir` (several times faster, cycle
+        times a few per cent longer on curves, see benchmarks/JERK.md); a section it cannot make
+        valid under every limit (or with a Poly curve) falls back to the NLP.
 
     Raises
     ------
@@ -341,6 +353,8 @@ def jerk_limited(
     segments = list(toolpath)
     if not segments:
         raise TimingError("jerk_limited: empty tool path", code=Code.TIMING_EMPTY)
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(ENGINES)} (got {engine!r})")
     jmax = jerk_limits(machine)
     if cycle_s <= 0:
         raise ValueError("cycle_s must be positive (s)")
@@ -351,9 +365,8 @@ def jerk_limited(
     feeds = segment_feeds(segments, machine)
     sections = split_sections(segments, arrays, tangent_tol_rad)
     vector = (machine.path.amax_mm_s2, machine.path.jmax_mm_s3)
-    ctx = (
-        arrays, path_speed_caps(feeds, machine), vmax, amax, jmax, base.s, base.sd, cycle_s, points, vector, closed_form
-    )
+    caps = path_speed_caps(feeds, machine)
+    ctx = (arrays, caps, vmax, amax, jmax, base.s, base.sd, cycle_s, points, vector, closed_form, engine)
     if workers > 1 and len(sections) > 1:
         from concurrent.futures import ProcessPoolExecutor
 
@@ -393,16 +406,22 @@ def _init_worker(ctx: tuple | None) -> None:
 
 
 def _solve_section(sec: Section) -> tuple[Solution[SectionProfile], tuple[np.ndarray, np.ndarray]]:
-    """Solve one section: a line section in closed form (``closed``), else the NLP — first with the
-    fast IPOPT options; IPOPT may stop at a local infeasibility from a poor start, so retry with the
+    """Solve one section: a line section in closed form (``closed``), else with ``engine="fir"`` the
+    FIR profile when it passes its limit check, else the NLP — first with the fast IPOPT options;
+    IPOPT may stop at a local infeasibility from a poor start, so retry with the
     adaptive barrier, from a slower warm start, then on a doubled grid. Returns the solution and
     (knot nodes, Δq″ per knot)."""
     assert _CTX is not None
-    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points, (path_amax, path_jmax), closed = _CTX
+    arrays, feeds, vmax, amax, jmax, base_s, base_sd, cycle_s, points, (path_amax, path_jmax), closed, engine = _CTX
     if closed:
         limits = line_section_limits(sec, arrays, feeds, vmax, amax, jmax, path_amax, path_jmax)
         if limits is not None:
             return line_section_profile(sec, arrays, limits), (np.zeros(0, dtype=np.int64), np.zeros((0, 3)))
+    if engine == "fir":
+        fir = fir_section(sec, arrays, FirLimits(feeds, vmax, amax, jmax, path_amax, path_jmax, cycle_s))
+        if fir is not None:
+            sol_fir, nodes, dq2 = fir
+            return sol_fir, (nodes, dq2)
     nseg = sec.last - sec.first + 1
     n0 = points if points is not None else min(60 + 30 * nseg, 600)
     spent = 0.0
