@@ -160,3 +160,24 @@ def test_fir_sections_in_the_plan_json_and_unknown_engines():
     assert np.all(traj.knot_v <= cap * (1 + 1e-6))
     with pytest.raises(ValueError, match="engine"):
         jerk_limited(path, TC.ISO, engine="toppra")
+
+
+def test_the_engine_through_the_command_and_the_api(tmp_path) -> None:
+    import json
+    from pathlib import Path
+
+    from trcopt.cli import main
+    from trcopt.errors import TrcoptError
+    from trcopt.pipeline import PlanOptions
+
+    program = Path(__file__).resolve().parents[2] / "problems" / "siemens" / "ex02_square_g450.mpf"
+    out = {e: tmp_path / f"{e}.json" for e in ("nlp", "fir")}
+    for engine, path in out.items():
+        assert main(["plan", str(program), "--jerk", "--jerk-engine", engine, "--json", str(path), "-q"]) == 0
+    plans = {e: json.loads(p.read_text()) for e, p in out.items()}
+    engines = {e: {s.get("engine") for s in p["timing"]["sections"]} for e, p in plans.items()}
+    assert "fir" in engines["fir"] and "fir" not in engines["nlp"]
+    # both checked against every limit (the NLP is a local optimum: on this program FIR is faster)
+    assert plans["fir"]["timing"]["limits_ok"] and plans["nlp"]["timing"]["limits_ok"]
+    with pytest.raises(TrcoptError, match="jerk-engine"):
+        PlanOptions(jerk=True, jerk_engine="fast")

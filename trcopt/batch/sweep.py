@@ -20,7 +20,8 @@ CSV (one option set per row, no product): a header ``program,<option>,…`` and 
 
 The option names are those of ``trcopt plan`` (``-`` or ``_`` alike): ``dialect``, ``profile``
 (alias ``controller``), ``machine``, ``timing``, ``verify``, ``strict``, ``tool-table``,
-``tool-unit``, ``appr-radius``, ``corners``, ``tolerance``, ``tolerance-kind``, ``jerk``. Every
+``tool-unit``, ``appr-radius``, ``corners``, ``tolerance``, ``tolerance-kind``, ``jerk``,
+``jerk-engine``. Every
 option set is turned into :class:`~trcopt.pipeline.PlanOptions` when the sweep is read, so a bad
 value (an unknown corner mode, a negative tolerance, a machine file that does not load) is an
 error before any plan runs.
@@ -63,6 +64,7 @@ OPTION_NAMES: dict[str, str] = {
     "tolerance": "tolerance_mm",
     "tolerance_kind": "tolerance_kind",
     "jerk": "jerk",
+    "jerk_engine": "jerk_engine",
 }
 _BOOLEAN = {"timing", "verify", "strict", "jerk"}
 _FLOAT = {"tolerance"}

@@ -102,6 +102,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="jerk-limited feed (needs jmax_mm_s3 on every machine axis; IPOPT per section, slower)",
     )
     p.add_argument(
+        "--jerk-engine", choices=("nlp", "fir"), default="nlp",
+        help="--jerk: nlp (the time optimum per section) or fir (about 4x faster, cycle times 1-7%% longer; "
+        "every profile checked) — benchmarks/JERK.md",
+    )
+    p.add_argument(
         "--workers", type=_workers, default=0,
         help="processes for --corners optimal and --jerk (default 0: one per CPU core)",
     )
@@ -140,6 +145,7 @@ def _options(args: argparse.Namespace) -> PlanOptions:
         tolerance_mm=getattr(args, "tolerance", 0.01),
         tolerance_kind=getattr(args, "tolerance_kind", None),
         jerk=getattr(args, "jerk", False),
+        jerk_engine=getattr(args, "jerk_engine", "nlp"),
         workers=getattr(args, "workers", 1),
     )
 
