@@ -216,7 +216,10 @@ def test_the_loop_limit_is_a_setting():
     blocks = ("FN 0: Q1 = +0", "LBL 1", "FN 1: Q1 = +Q1 + +1", "FN 12: IF +Q1 LT +50 GOTO LBL 1")
     assert errors(read(*blocks)) == []
     assert errors(read(*blocks, max_iterations=20)) == [(Code.HH_LOOP_LIMIT, "6", 3)]
-    assert errors(read(*blocks, max_blocks=30)) == [(Code.HH_LOOP_LIMIT, "6", 3)]
+    assert errors(read(*blocks, max_blocks=30)) == [(Code.HH_LOOP_LIMIT, "4", 3)]
+    # the block limit counts blocks run again: a program read straight through is never cut
+    straight = [f"L X+{k} Y+0 R0 F1000" for k in range(40)]
+    assert errors(read(*straight, max_blocks=30)) == []
 
 
 def test_call_pgm_runs_the_file_beside_the_program(tmp_path: Path):

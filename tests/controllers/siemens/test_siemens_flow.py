@@ -255,3 +255,13 @@ def test_extern_is_accepted_and_a_misplaced_flow_word_is_a_syntax_error(tmp_path
     assert [m.end[0] for m in moves("EXTERN SUBX(REAL)\nSUBX(7)\nM30", file=main)] == [7.0]
     err, _ = error_of("N10 G1 X1 F100 GOTOF\nM30")
     assert err.code == "NC-SYNTAX" and err.span.column == 16 and "program-flow" in err.message
+
+
+def test_the_block_limit_counts_blocks_run_again(monkeypatch):
+    import trcopt.controllers.siemens.runner as runner
+
+    monkeypatch.setattr(runner, "MAX_BLOCKS", 30)
+    straight = "\n".join(f"G1 X{k} F100" for k in range(60)) + "\nM30"
+    assert len(moves(straight)) == 60  # read straight through: never cut, whatever its length
+    err, _ = error_of("R1=0\nA: G1 X=R1 F100\nR1=R1+1\nIF R1<50 GOTOB A\nM30")
+    assert err.code == "NC-LOOP-LIMIT" and "run again" in err.message

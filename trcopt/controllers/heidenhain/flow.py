@@ -16,7 +16,8 @@ called programs — the blocks are *executed* in the order the TNC runs them.
 
 Limits: at most :data:`MAX_DEPTH` nested calls, ``HeidenhainOptions.max_iterations`` loop
 iterations (jumps back and section repeats, default 10 000) and ``HeidenhainOptions.max_blocks``
-executed blocks (default 1 000 000): a program that does not end within them stops with
+blocks run again after a jump back, a repeat or a call (default 1 000 000; a program read
+straight through never counts, whatever its length): a program that does not end within them stops with
 ``HH-LOOP-LIMIT`` at the block where the limit is reached.
 A jump or call to a label that is not in the program, a label defined twice and ``LBL 0`` outside
 a call are ``HH-LABEL``; a missing program file ``HH-PGM-MISSING``.
@@ -154,6 +155,8 @@ class FlowBlocks(MotionBlocks):
             return False
         stack: list[_Call] = []
         counters: dict[tuple[int, int, int], int] = {}
+        reached: dict[int, int] = {}  # per program text: the furthest block run so far
+        again = 0  # blocks run again (jumps back, repeats, calls): a straight program never counts
         pc = 0
         while pc < len(src.blocks):
             blk = src.blocks[pc]
@@ -163,12 +166,16 @@ class FlowBlocks(MotionBlocks):
             span = self._span(src, pc)
             self.blocks += 1
             self.seq += 1
+            if pc > reached.get(id(src), -1):
+                reached[id(src)] = pc
+            else:
+                again += 1
             n_before, mark = len(self.elems), len(self.diags)
             try:
-                if self.blocks > self.opts.max_blocks:
+                if again > self.opts.max_blocks:
                     raise BlockError(
                         Code.HH_LOOP_LIMIT,
-                        f"the program does not end within {self.opts.max_blocks} executed blocks (endless loop?)",
+                        f"the program does not end within {self.opts.max_blocks} blocks run again (endless loop?)",
                     )
                 src, pc = self._step(src, pc, blk, span, stack, counters)
             except (BlockError, ContourError, LeadError) as exc:

@@ -108,8 +108,9 @@ class BlockError(Exception):
 class HeidenhainOptions:
     """Reader settings: ``appr_radius`` is the APPR/DEP CT/LCT radius reading (spec R9; a string
     is accepted and checked); ``tools`` preset tool table; ``max_iterations`` (loop iterations:
-    jumps back and section repeats) and ``max_blocks`` (executed blocks) after which a program that
-    has not ended stops with ``HH-LOOP-LIMIT``."""
+    jumps back and section repeats) and ``max_blocks`` (blocks run again after a jump back, a repeat
+    or a call: a program read straight through never counts, whatever its length) after which a
+    program that has not ended stops with ``HH-LOOP-LIMIT``."""
 
     appr_radius: ApprRadius = ApprRadius.CENTRE
     tools: dict[int, HhTool] = field(default_factory=dict)

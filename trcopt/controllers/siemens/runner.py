@@ -6,7 +6,9 @@ and subprogram calls over the statements of :mod:`trcopt.controllers.siemens.flo
   the destination is missing. A destination is a label or a block number (``N100``).
 * Iteration limit: every backward jump, loop iteration, section repetition and subprogram
   repetition counts; more than :data:`MAX_ITERATIONS` in one run is ``NC-LOOP-LIMIT`` (taken as an
-  endless loop), as is more than :data:`MAX_BLOCKS` executed blocks.
+  endless loop), as is more than :data:`MAX_BLOCKS` blocks run again (a block runs again after a
+  jump back, in a repetition or another call of its subprogram; a program read straight through
+  never counts, whatever its length).
 * Subprograms: ``NAME``, ``NAME(args)``, ``NAME P=n``, ``L123 P2``; the file ``NAME.SPF`` (then
   ``.MPF``, any letter case, also ``_N_NAME_SPF``) in the calling program's folder, else the main
   program's; a missing file is alarm 14011 naming where it was looked for. ``PROC NAME(REAL A, VAR
@@ -39,7 +41,7 @@ __all__ = ["ProgramRunner", "MAX_ITERATIONS", "MAX_BLOCKS", "MAX_LEVELS"]
 
 #: backward jumps, loop iterations and repetitions in one program run before it is taken as endless
 MAX_ITERATIONS = 100_000
-#: executed blocks in one program run
+#: blocks run again in one program run (the first run of each block of a program text is free)
 MAX_BLOCKS = 2_000_000
 #: program levels (the main program and 15 nested subprogram calls)
 MAX_LEVELS = 16
@@ -89,7 +91,8 @@ class ProgramRunner:
         self.levels = [Level(program, self.variables)]
         self._programs: dict[str, Program] = {}
         self.iterations = 0
-        executed = 0
+        executed = 0  # statements run again (loops, repeats, calls): a straight program never counts
+        reached: dict[int, int] = {}  # per program text: the furthest statement run so far
         moves = self.moves
         while True:
             if len(moves) >= _BATCH:
@@ -103,12 +106,16 @@ class ProgramRunner:
                 self._leave_level()
                 continue
             st = stmts[level.pc]
+            key = id(stmts)
+            if level.pc > reached.get(key, -1):
+                reached[key] = level.pc
+            else:
+                executed += 1
             level.pc += 1
-            executed += 1
             if executed > MAX_BLOCKS:
                 raise fail(
                     Code.NC_LOOP_LIMIT,
-                    f"more than {MAX_BLOCKS} executed blocks: taken as an endless loop",
+                    f"more than {MAX_BLOCKS} blocks run again (loops, repeats, calls): taken as an endless loop",
                     st.span(self.file),
                 )
             if self._statement(level, st):
