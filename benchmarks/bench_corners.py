@@ -5,7 +5,7 @@ Run:  python benchmarks/bench_corners.py [problem.mpf ...] [--eps 0.01,0.1]
 
 Every plan is timed by trcopt's timing stage on the default machine. For each blended plan the
 independent no-gouge check (tests/gouge.py) and the sampled cut-part deviation
-(:func:`trcopt.optimize.corners.boundary.cut_deviation`) are reported.
+(:func:`trcopt.optimize.corners.deviation.cut_deviation`) are reported.
 """
 
 from __future__ import annotations

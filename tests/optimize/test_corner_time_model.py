@@ -80,6 +80,12 @@ def test_quicker_trusts_the_model_only_beyond_its_margin(monkeypatch: pytest.Mon
     close = [_seg(Line((0.0, 0.0, 0.0), (50.0, 0.0, 0.0)), 100.0 * (1 - time_model.MODEL_MARGIN / 4))]
     assert quicker(fast, close, DEFAULT_MACHINE) and not quicker(close, fast, DEFAULT_MACHINE)
     assert len(calls) == 4  # within the margin: the timing stage times both, both ways
+    # a narrower margin (run splines against circular blends): 6 % apart is decided by the model
+    between = [_seg(Line((0.0, 0.0, 0.0), (50.0, 0.0, 0.0)), 100.0 * 0.94)]
+    assert quicker(fast, between, DEFAULT_MACHINE, time_model.RUN_SPLINE_MARGIN)
+    assert not quicker(between, fast, DEFAULT_MACHINE, time_model.RUN_SPLINE_MARGIN)
+    assert len(calls) == 4
+    assert quicker(fast, between, DEFAULT_MACHINE) and len(calls) == 6  # (within the default margin)
 
 
 def test_a_g2_plan_that_cannot_be_timed_gives_the_circles_and_says_why(monkeypatch: pytest.MonkeyPatch) -> None:

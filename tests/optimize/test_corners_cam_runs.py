@@ -17,8 +17,10 @@ from gouge import gouges  # noqa: E402
 
 from trcopt.geometry import Arc, Line  # noqa: E402
 from trcopt.modes import TransitionKind  # noqa: E402
-from trcopt.optimize.corners import blend_corners  # noqa: E402
-from trcopt.optimize.corners.boundary import cut_deviation  # noqa: E402
+from trcopt.optimize.corners import (
+    blend_corners,  # noqa: E402
+    cut_deviation,  # noqa: E402
+)
 from trcopt.pipeline import PlanOptions, plan  # noqa: E402
 from trcopt.timing import time_parameterize  # noqa: E402
 

@@ -1,5 +1,6 @@
 """The shortcuts of the corner stage's measurements give what the straightforward computations give:
-the cut-part deviation (every probe measured exactly), the probes of the exact cut boundary, the
+the cut-part deviation behind a parallel path (the whole search: ``test_corners_deviation.py``),
+the probes of the exact cut boundary, the
 samples of many elements at once, the programmed elements near the corners, the pairs of points and
 elements within a distance, and the cycle-time estimate."""
 
@@ -10,21 +11,14 @@ from itertools import accumulate, pairwise
 
 import numpy as np
 import pytest
-from scipy.spatial import cKDTree
 
 from trcopt.config import DEFAULT_MACHINE
 from trcopt.errors import SourceSpan
 from trcopt.geometry import Arc, Line, Plane, Poly
 from trcopt.geometry.poly import hermite_curve
 from trcopt.modes import Side
-from trcopt.optimize.corners import blend_corners, boundary
-from trcopt.optimize.corners.boundary import (
-    _window_bound,
-    boundary_probes,
-    cut_deviation,
-    element_samples,
-    material_left,
-)
+from trcopt.optimize.corners import blend_corners, boundary, cut_deviation
+from trcopt.optimize.corners.boundary import boundary_probes, element_samples
 from trcopt.optimize.corners.chain_geometry import Elements
 from trcopt.optimize.corners.samples import FAN, boxes, elements_samples, fans, path_samples
 from trcopt.optimize.corners.sites import _PlaneGrids
@@ -34,7 +28,6 @@ from trcopt.pipeline import PlanOptions, plan
 from trcopt.verify.model import point_distance
 
 EPS = 0.01
-STEP = 0.02  # a coarser probe spacing than the default: every probe is measured in the reference
 
 
 def _freeform(chords: int) -> str:
@@ -57,57 +50,6 @@ def blended():
     exact = plan(_freeform(200), file="cam.ngc", options=PlanOptions(timing=False))
     res = blend_corners(exact.toolpath, exact.programmed, tolerance_mm=EPS, mode="optimal")
     return exact, res
-
-
-def _every_probe(cand, dirs, centres, R, step, best, probe):
-    """The largest material left over every probe among the candidates, each measured exactly
-    against every disc within R + 1 mm (what ``_left_over`` prunes its way to)."""
-    idx = np.nonzero(probe(cand))[0]
-    if not len(centres):
-        return (1.0, cand[idx[0]]) if len(idx) else (best, None)
-    tree = cKDTree(centres)
-    d0 = tree.query(cand[idx])[0] if len(idx) else np.zeros(0)
-    where = None
-    for i in idx[d0 > R + step * step / (4.0 * R) + 1e-9].tolist():
-        near = tree.query_ball_point(cand[i], R + 1.0)
-        val = float(material_left(cand[i : i + 1], dirs[i : i + 1], centres[near], R)[0]) if near else 1.0
-        if val > best:
-            best, where = val, cand[i]
-    return best, where
-
-
-def test_cut_deviation_is_the_largest_value_over_every_probe(blended, monkeypatch):
-    exact, res = blended
-    fast = cut_deviation(exact.programmed, exact.toolpath, res.segments, step=STEP, locate=True)
-    monkeypatch.setattr(boundary, "_left_over", _every_probe)
-    slow = cut_deviation(exact.programmed, exact.toolpath, res.segments, step=STEP, locate=True)
-    assert fast[0] > 0.0  # (coarse centre samples: the sampled value is above ε)
-    assert fast[0] == slow[0]
-    assert np.array_equal(fast[1], slow[1])
-
-
-def test_window_bounds_are_upper_bounds_of_the_exact_values(blended, monkeypatch):
-    exact, res = blended
-    seen = []
-    real = boundary._left_over
-
-    def keep(*args):
-        seen.append(args)
-        return real(*args)
-
-    monkeypatch.setattr(boundary, "_left_over", keep)
-    cut_deviation(exact.programmed, exact.toolpath, res.segments, step=STEP)
-    assert seen
-    checked = 0
-    for cand, dirs, centres, R, _, _, _ in seen:
-        tree = cKDTree(centres, leafsize=32, balanced_tree=False, compact_nodes=False)
-        bound = _window_bound(tree, cand, dirs, centres, R)
-        for i in range(0, len(cand), 7):
-            near = tree.query_ball_point(cand[i], R + 1.0)
-            value = float(material_left(cand[i : i + 1], dirs[i : i + 1], centres[near], R)[0]) if near else 1.0
-            assert bound[i] >= value
-            checked += 1
-    assert checked > 1000
 
 
 def _seg(g, feed=100.0, side=Side.OFF, radius=0.0, plane=Plane.G17, stop=False):
@@ -214,8 +156,7 @@ def test_boxes_of_curves_in_one_pass_are_those_of_each_curve(blended):
             p = np.array([q[:2] for q in g.sample_points()])
             expected.append((*p.min(axis=0), *p.max(axis=0)))
         elif isinstance(g, Arc):
-            (cx, cy), r = g.center, g.radius
-            expected.append((cx - r, cy - r, cx + r, cy + r))
+            expected.append(tuple(boxes([g])[0]))
         else:
             expected.append((min(g.start[0], g.end[0]), min(g.start[1], g.end[1]), max(g.start[0], g.end[0]),
                              max(g.start[1], g.end[1])))  # fmt: skip
@@ -226,6 +167,20 @@ def test_running_sums_of_the_spline_pieces_are_those_of_numpy():
     # the pieces of a run's spline sum their interval lengths one by one, as np.cumsum does
     x = np.random.default_rng(5).uniform(0.0, 0.3, 5000) ** 3
     assert tuple(accumulate(x.tolist(), initial=0.0)) == tuple(np.concatenate(([0.0], np.cumsum(x))).tolist())
+
+
+def test_the_box_of_an_arc_holds_its_samples_and_not_much_more():
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        r = float(10.0 ** rng.uniform(-2, 5))
+        arc = Arc(tuple(rng.uniform(-50, 50, 2)), r, float(rng.uniform(-7, 7)), float(rng.uniform(-7, 7)))
+        box = boxes([arc])[0]
+        pts = element_samples(arc, arc.plane_length / 997.0)[0]
+        assert (pts[:, 0] >= box[0]).all() and (pts[:, 1] >= box[1]).all()
+        assert (pts[:, 0] <= box[2]).all() and (pts[:, 1] <= box[3]).all()
+        # (at most a sample spacing and the rounding pad beyond the samples' own box)
+        slack = arc.plane_length / 997.0 + 1e-8 * (1.0 + r + 100.0)
+        assert np.all(np.abs(box - (*pts.min(axis=0), *pts.max(axis=0))) <= slack)
 
 
 def test_programmed_elements_near_the_corners_are_those_within_reach_one_by_one(blended):

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["QPResult", "solve_qp"]
+__all__ = ["QPResult", "conic_form", "solve_conic", "solve_qp"]
 
 SOLVED = ("Solved", "AlmostSolved")
 
@@ -36,7 +36,14 @@ def solve_qp(
     """The minimiser of ``½xᵀPx + qᵀx`` subject to ``lo ≤ Ax ≤ hi`` (``P`` symmetric positive
     semidefinite, sparse or dense; infinite bounds are absent rows; ``lo == hi`` an equality).
     ``refine=False``: without Clarabel's iterative refinement of each KKT solve."""
-    import clarabel
+    A_c, b, n_eq = conic_form(A, lo, hi)
+    return solve_conic(P, q, A_c, b, n_eq, max_iter=max_iter, refine=refine)
+
+
+def conic_form(A: Any, lo: np.ndarray, hi: np.ndarray) -> tuple[Any, np.ndarray, int]:
+    """The rows ``lo ≤ Ax ≤ hi`` in Clarabel's form ``A_c x + s = b``: the equalities first (s in
+    the zero cone), then every finite lower bound's row negated, then every finite upper bound's
+    row (s ≥ 0), each kind in row order; and the number of equalities."""
     from scipy import sparse
 
     A = sparse.csr_matrix(A)
@@ -45,17 +52,26 @@ def solve_qp(
     eq = np.isfinite(lo) & np.isfinite(hi) & (hi - lo <= 1e-12 * np.maximum(1.0, np.abs(hi)))
     below = np.isfinite(lo) & ~eq
     above = np.isfinite(hi) & ~eq
-    # Clarabel's form: A'x + s = b, s in the cones (zero cone: equalities; s ≥ 0: inequalities):
-    # the rows of A in that order, a lower bound's row negated
     rows = np.concatenate((np.nonzero(eq)[0], np.nonzero(below)[0], np.nonzero(above)[0]))
     sign = np.concatenate((np.ones(int(eq.sum())), -np.ones(int(below.sum())), np.ones(int(above.sum()))))
     A_c = (sparse.diags(sign) @ A[rows]).tocsc()
     b = np.concatenate((hi[eq], -lo[below], hi[above]))
+    return A_c, b, int(eq.sum())
+
+
+def solve_conic(
+    P: Any, q: np.ndarray, A_c: Any, b: np.ndarray, n_eq: int, *, max_iter: int = 200, refine: bool = True
+) -> QPResult:
+    """:func:`solve_qp` of rows already in Clarabel's form (:func:`conic_form`: ``A_c`` sparse
+    CSC without explicit zeros, its first ``n_eq`` rows equalities)."""
+    import clarabel
+    from scipy import sparse
+
     cones = []
-    if eq.any():
-        cones.append(clarabel.ZeroConeT(int(eq.sum())))
-    if below.any() or above.any():
-        cones.append(clarabel.NonnegativeConeT(int(below.sum() + above.sum())))
+    if n_eq:
+        cones.append(clarabel.ZeroConeT(n_eq))
+    if len(b) > n_eq:
+        cones.append(clarabel.NonnegativeConeT(len(b) - n_eq))
     settings = clarabel.DefaultSettings()
     settings.verbose = False
     settings.max_iter = max_iter

@@ -8,7 +8,9 @@
 * :mod:`.blend` — :func:`blend_corners`, the entry point: runs a strategy by name;
 * :mod:`.records` — what a strategy returns (:class:`CornerResult`, :class:`CornerRecord`);
 * :mod:`.sites` — the corners of a tool path and what constrains them (:func:`find_corner_sites`);
-* :mod:`.boundary` — the exact cut boundary and the material a path leaves (:func:`cut_deviation`);
+* :mod:`.boundary` — the exact cut boundary and the material a path leaves;
+* :mod:`.deviation` — the largest material a new path leaves beyond the exact cut (:func:`cut_deviation`);
+* :mod:`.centres` — the new path's disc centres for that measurement, sampled on demand;
 * :mod:`.samples` — sample points and boxes of elements and paths for that measurement;
 * :mod:`.qp` — one corner as a G2 quintic problem (SQP of convex QPs);
 * :mod:`.chain` (with :mod:`.chain_geometry`, :mod:`.chain_spline`, :mod:`.chain_qp`) — one G2 cubic
@@ -30,7 +32,7 @@ from trcopt.lazy import lazy_exports
 
 if TYPE_CHECKING:
     from trcopt.optimize.corners.blend import blend_corners, optimize_corners
-    from trcopt.optimize.corners.boundary import cut_deviation
+    from trcopt.optimize.corners.deviation import cut_deviation
     from trcopt.optimize.corners.qp import CornerBlendProblem
     from trcopt.optimize.corners.records import JUMP_SMOOTHED, CornerRecord, CornerResult
     from trcopt.optimize.corners.sites import CornerSite, find_corner_sites
@@ -39,7 +41,7 @@ if TYPE_CHECKING:
 _LAZY = {
     "blend_corners": "trcopt.optimize.corners.blend",
     "optimize_corners": "trcopt.optimize.corners.blend",
-    "cut_deviation": "trcopt.optimize.corners.boundary",
+    "cut_deviation": "trcopt.optimize.corners.deviation",
     "CornerBlendProblem": "trcopt.optimize.corners.qp",
     "JUMP_SMOOTHED": "trcopt.optimize.corners.records",
     "CornerRecord": "trcopt.optimize.corners.records",

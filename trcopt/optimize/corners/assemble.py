@@ -13,15 +13,16 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly, hermite_curve
 from trcopt.modes import TransitionKind
-from trcopt.optimize.corners.boundary import cut_deviation
 from trcopt.optimize.corners.chain import ChainSite, ChainSolution, solve_chain
 from trcopt.optimize.corners.circular import circular_blend
 from trcopt.optimize.corners.curves import joint_turn
+from trcopt.optimize.corners.deviation import cut_deviation
 from trcopt.optimize.corners.qp import CornerSolution
 from trcopt.optimize.corners.records import JUMP_SMOOTHED, CornerRecord, CornerResult
 from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite
@@ -53,6 +54,8 @@ class TransitionPlan:
         G2 splines across runs of joints (they take the place of those joints' sites).
     kept:
         Records of the curvature jumps whose spline was given up (the exact path stays there).
+    circles:
+        The circular blends of the sites by (joint index, tolerance) (:meth:`circle`).
     """
 
     segments: list[Segment]
@@ -61,6 +64,12 @@ class TransitionPlan:
     solved: dict[tuple[int, float], CornerSolution] = field(default_factory=dict)
     splines: list[Spline] = field(default_factory=list)
     kept: list[CornerRecord] = field(default_factory=list)
+    circles: dict[tuple[int, float], Any] = field(default_factory=dict)
+
+    def circle(self, k: int, site: CornerSite) -> tuple[Arc, float, float] | None:
+        """The largest circular blend at site ``k`` within its tolerance
+        (:func:`~trcopt.optimize.corners.circular.circular_blend`), computed once."""
+        return circle_of(self.circles, k, site, self.eps[k])
 
     @property
     def single(self) -> list[tuple[int, CornerSite]]:
@@ -91,7 +100,7 @@ def fit_tolerance(
     for _round in range(FIT_ROUNDS):
         if solve is not None:
             solve(plan)
-        result = assemble(segs, plan.single, plan.eps, plan.solved, mode, chains=plan.splines)
+        result = assemble(segs, plan.single, plan.eps, plan.solved, mode, chains=plan.splines, circles=plan.circles)
         dev, where = cut_deviation(programmed, segs, result.segments, locate=True)
         result.max_deviation_mm = dev
         if dev <= tolerance_mm or where is None:
@@ -122,6 +131,21 @@ def fit_tolerance(
     return result
 
 
+def circle_of(
+    circles: dict[tuple[int, float], Any] | None, k: int, site: CornerSite, eps: float
+) -> tuple[Arc, float, float] | None:
+    """:func:`~trcopt.optimize.corners.circular.circular_blend` of site ``k`` at ``eps``, kept in
+    ``circles`` by (k, eps) when given; the site's probes are released once it is measured (a
+    plan of many corners would hold them all)."""
+    if circles is not None and (k, eps) in circles:
+        return circles[(k, eps)]
+    built = circular_blend(site, eps)
+    site.release()
+    if circles is not None:
+        circles[(k, eps)] = built
+    return built
+
+
 def _trim(g: Line | Arc, lam0: float, lam1: float) -> Line | Arc:
     return g.sub(lam0, lam1, g.start[2], g.end[2])
 
@@ -134,6 +158,7 @@ def assemble(
     mode: str,
     choice: Mapping[int, TransitionKind] | None = None,
     chains: Sequence[Spline] = (),
+    circles: dict[tuple[int, float], Any] | None = None,
 ) -> CornerResult:
     """The new path with a transition at every site of ``sites`` and along every spline of
     ``chains``, and the records.
@@ -141,7 +166,8 @@ def assemble(
     A site gets its G2 quintic from ``solved`` (at its tolerance ``eps_of[k]``, mm) where one is
     solved and ``choice`` (by joint index) does not say :attr:`TransitionKind.ARC`; else the
     largest same-ε circular blend, or — at a G450 transition circle, or where no circular blend
-    fits — the exact path. ``mode`` names the strategy in the result.
+    fits — the exact path (``circles``: the circular blends by (joint, tolerance), filled as they
+    are computed). ``mode`` names the strategy in the result.
     """
     lam0 = [0.0] * len(segs)
     lam1 = [1.0] * len(segs)
@@ -196,7 +222,7 @@ def assemble(
             records.append(CornerRecord(k, turn, site.inside, False, eps, solution=sol, reason=why))
             continue
         else:
-            built = circular_blend(site, eps)
+            built = circle_of(circles, k, site, eps)
             if built is None:
                 why = "no circular blend (arc neighbours)"
                 if sol is not None and not sol.ok:

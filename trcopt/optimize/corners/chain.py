@@ -12,7 +12,7 @@ outside vertices (tangent joints): the spline replaces them with the chords arou
 convex stretch of CAM chords is no longer bound to circles of radius R.
 
 The spline is found by sequential convex programming, one QP per step (Clarabel, interior point:
-:func:`~trcopt.optimize.corners.chain_qp.solve_step`; the rows are built for all samples at once
+:func:`~trcopt.optimize.corners.chain_qp.solve_rows`; the rows are built for all samples at once
 through a k-d tree of the samples, :mod:`.chain_geometry`, on the sparse B-spline bases of
 :mod:`.chain_spline`):
 
@@ -35,7 +35,7 @@ is at most a third of the length over which the sharpest corner of the run turns
 path without compensation: of the nearest corners, growing by a quarter of the distance from them,
 :func:`~trcopt.optimize.corners.chain_spline.breakpoints`). The result is accepted only if the
 dense-sampled clearance (≥ R, or the exact path's own) and offset ≤ ε hold; the
-caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.boundary.cut_deviation`)
+caller measures the cut-part deviation independently (:func:`trcopt.optimize.corners.deviation.cut_deviation`)
 and tightens ε′ if it exceeds ε.
 
 The same spline smooths a **curvature jump** (:func:`knot_site`): at a tangent-continuous joint
@@ -53,14 +53,14 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.optimize.corners.chain_geometry import Elements, free_directions, nearest
-from trcopt.optimize.corners.chain_qp import solve_step
-from trcopt.optimize.corners.chain_spline import basis, breakpoints, pieces, ppoly, rows
+from trcopt.optimize.corners.chain_qp import solve_rows
+from trcopt.optimize.corners.chain_spline import SplineBasis, breakpoints, pieces, ppoly, rows
 from trcopt.optimize.corners.curves import joint_turn, signed_curvature
 from trcopt.path import Role
 from trcopt.verify.model import bbox
@@ -277,12 +277,12 @@ def _end_frame(e: Line | Arc, at_end: bool) -> tuple[np.ndarray, np.ndarray, flo
     return p, t, k
 
 
-def _sag_margin(x: np.ndarray, B1: Any, B2: Any, n: int, gap: float, ramp: np.ndarray) -> np.ndarray:
+def _sag_margin(d1: np.ndarray, d2x: np.ndarray, d2y: np.ndarray, gap: float, ramp: np.ndarray) -> np.ndarray:
     """Per sample, how much closer the curve may come to a line between two samples ``gap`` apart:
     κ·gap²/8 with κ 1.5× the largest curvature of the current spline around the sample (at most
-    SAG_CURVATURE), fading to 0 at the exact ends (``ramp``)."""
-    d1 = np.stack((B1 @ x[:n], B1 @ x[n:]), axis=1)
-    d2 = np.stack((B2 @ x[:n], B2 @ x[n:]), axis=1)
+    SAG_CURVATURE), fading to 0 at the exact ends (``ramp``); ``d1``, ``d2x``, ``d2y``: the
+    spline's first and second derivatives at the samples."""
+    d2 = np.stack((d2x, d2y), axis=1)
     kappa = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(np.hypot(d1[:, 0], d1[:, 1]), 1e-9) ** 3
     k = SAMPLES_PER_SPAN
     padded = np.pad(kappa, k, mode="edge")
@@ -331,11 +331,10 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     mid, half = 0.5 * (breaks[1:] + breaks[:-1]), breaks[1:] - breaks[:-1]
     xg = np.concatenate((mid - g * half, mid + g * half))
     wg = np.concatenate((0.5 * half, 0.5 * half))
-    B0s = basis(knots, xs, 0, n)
-    B1s = basis(knots, xs, 1, n)
-    B2g = basis(knots, xg, 2, n)
+    sb = SplineBasis(knots, n)
+    B0s, B1s, B2g = sb.at(xs, 0), sb.at(xs, 1), sb.at(xg, 2)
     ends = np.array([0.0, S])
-    E0, E1, E2 = (basis(knots, ends, nu, n).toarray() for nu in (0, 1, 2))
+    E0, E1, E2 = (sb.at(ends, nu).toarray() for nu in (0, 1, 2))
     # objective ½ xᵀPx: ∫|C″|² for x and y (a tiny ridge keeps P positive definite)
     H = (B2g.T @ sparse.diags(wg) @ B2g).tocsc()
     H = 2.0 * H + 1e-10 * sparse.eye(n)
@@ -365,7 +364,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     # lie on the exact path (clearance exactly R), where the margin fades out
     gap = float(np.max(np.diff(xs)))
     ramp = np.clip(np.minimum(xs, S - xs) / END_RAMP_MM, 0.0, 1.0) ** 3
-    B2s = basis(knots, xs, 2, n)
+    B2s = sb.at(xs, 2)
     prog = Elements(site.programmed)
     exact = Elements(site.full)
     idx = np.clip(np.searchsorted(cum, xs, side="right") - 1, 0, ref.n - 1)
@@ -379,6 +378,7 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
     fit = spsolve((gram + 1e-14 * gram.diagonal().mean() * sparse.eye(n)).tocsc(), B0s.T @ pts)
     x_cur = None
     x_lin = np.concatenate((fit[:, 0], fit[:, 1]))
+    d1 = np.stack((B1s @ x_lin[:n], B1s @ x_lin[n:]), axis=1)  # the spline's first derivative at xs
     msg = "max steps"
     steps = 0
     f_prev = math.inf
@@ -391,39 +391,42 @@ def solve_chain(site: ChainSite, eps: float, *, knot_step: float = KNOT_STEP_MM)
         ok = ft.dist > 1e-9
         m, e, foot = m[ok], e[ok], ft.foot[ok]
         nv = (pts[m] - foot) / ft.dist[ok][:, None]
-        block = [rows(B0s, m, nv, n)]
+        A_ng = rows(B0s, m, nv, n)
         # at least R, or as far as the exact path is at that place where it is closer (the
         # controller's near-tangent joints: R·(1 − cos turn) at most, accepted by the verification)
         clear_ref = np.minimum(R, prog.distances(e, ref_pts[m]))
-        lo = [np.sum(nv * foot, axis=1) + clear_ref + _sag_margin(x_lin, B1s, B2s, n, gap, ramp)[m]]
-        hi = [np.full(len(m), np.inf)]
+        lo_ng = np.sum(nv * foot, axis=1) + clear_ref + _sag_margin(d1, B2s @ x_lin[:n], B2s @ x_lin[n:], gap, ramp)[m]
         # tolerance: distance beyond the exact path on the free side (nearest exact element, and
         # both elements at the joints)
         m, e = nearest(exact, pts, near_exact, tree)
         m, e = np.concatenate((m, joint_m)), np.concatenate((e, joint_e))
         feet, mv, radial = free_directions(exact, e, pts[m], site.material_sign, two_sided)
-        block.append(rows(B0s, m, mv, n))
+        A_tol = rows(B0s, m, mv, n)
         bound = np.sum(mv * feet, axis=1)
         # without compensation the spline keeps within ε of the path on both sides
-        lo.append(np.where(radial | (not two_sided), -np.inf, bound - eps_t))
-        hi.append(bound + eps_t)
-        A_s = sparse.vstack([A_eq, *block], format="csr")
-        ax = A_s @ x_lin
+        both = ~radial if two_sided else np.zeros(len(m), bool)
         # sliding along the curve changes only the parametrisation: penalised, so the spline keeps
         # about unit speed (its second derivative stays its curvature)
-        tan = np.stack((B1s @ x_lin[:n], B1s @ x_lin[n:]), axis=1)
-        tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
+        tan = d1 / np.maximum(np.hypot(d1[:, 0], d1[:, 1]), 1e-300)[:, None]
         T = rows(B0s, np.arange(len(xs)), tan, n)
         P_step = (Pprox + SLIDE * h_scale * (T.T @ T)).tocsc()
-        res = solve_step(P_step, Pm @ x_lin, A_s, np.concatenate([b_eq, *lo]) - ax, np.concatenate([b_eq, *hi]) - ax)
+        # the QP in the step from x_lin: the rows' bounds less their values there
+        ax_tol = A_tol @ x_lin
+        res = solve_rows(
+            P_step,
+            Pm @ x_lin,
+            (A_eq, b_eq - A_eq @ x_lin),
+            [(A_ng, lo_ng - A_ng @ x_lin), (A_tol[both], (bound - eps_t)[both] - ax_tol[both])],
+            [(A_tol, bound + eps_t - ax_tol)],
+        )
         if res.x is None:
             msg = f"qp: {res.status}"
             break
         x_cur = x_lin = x_lin + res.x
         new_pts = np.stack((B0s @ x_cur[:n], B0s @ x_cur[n:]), axis=1)
         # movement across the curve (sliding along it is a change of parametrisation only)
-        tan = np.stack((B1s @ x_cur[:n], B1s @ x_cur[n:]), axis=1)
-        tan /= np.maximum(np.hypot(tan[:, 0], tan[:, 1]), 1e-300)[:, None]
+        d1 = np.stack((B1s @ x_cur[:n], B1s @ x_cur[n:]), axis=1)
+        tan = d1 / np.maximum(np.hypot(d1[:, 0], d1[:, 1]), 1e-300)[:, None]
         move = new_pts - pts
         step = float(np.max(np.abs(move[:, 0] * tan[:, 1] - move[:, 1] * tan[:, 0])))
         pts = new_pts

@@ -23,7 +23,7 @@ from trcopt.geometry.poly import CHORD_TOL_MM
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline
 
-__all__ = ["KNOT_GROWTH", "basis", "breakpoints", "pieces", "ppoly", "rows"]
+__all__ = ["KNOT_GROWTH", "SplineBasis", "basis", "breakpoints", "pieces", "ppoly", "rows"]
 
 KNOT_GROWTH = 0.25  # a knot span is at most its need at a corner plus this times its distance from it
 
@@ -66,16 +66,33 @@ def _derivative(knots: np.ndarray, k: int, n: int) -> Any:
 
 def basis(knots: np.ndarray, x: np.ndarray, nu: int, n: int) -> Any:
     """Sparse matrix of the ``nu``-th derivative of the cubic B-spline basis at ``x``."""
-    from scipy.interpolate import BSpline
+    return SplineBasis(knots, n).at(x, nu)
 
-    D = None
-    t, k, m = knots, 3, n
-    for _ in range(nu):
-        step = _derivative(t, k, m)
-        D = step if D is None else step @ D
-        t, k, m = t[1:-1], k - 1, m - 1
-    B = BSpline.design_matrix(np.clip(x, t[k], t[-k - 1]), t, k).tocsr()
-    return B if D is None else (B @ D).tocsr()
+
+class SplineBasis:
+    """:func:`basis` of one cubic spline space (``knots``, ``n`` coefficients) at any points, the
+    derivative matrices built once (the same products, so the same matrices)."""
+
+    def __init__(self, knots: np.ndarray, n: int) -> None:
+        self.knots, self.n = knots, n
+        self._D: dict[int, Any] = {0: None}
+
+    def _derivatives(self, nu: int) -> Any:
+        if nu not in self._D:
+            D = self._derivatives(nu - 1)
+            t, k, m = self.knots[nu - 1 : len(self.knots) - nu + 1], 4 - nu, self.n - nu + 1
+            step = _derivative(t, k, m)
+            self._D[nu] = step if D is None else step @ D
+        return self._D[nu]
+
+    def at(self, x: np.ndarray, nu: int) -> Any:
+        """Sparse CSR matrix of the ``nu``-th derivative of the basis at ``x``."""
+        from scipy.interpolate import BSpline
+
+        D = self._derivatives(nu)
+        t, k = self.knots[nu : len(self.knots) - nu], 3 - nu
+        B = BSpline.design_matrix(np.clip(x, t[k], t[-k - 1]), t, k).tocsr()
+        return B if D is None else (B @ D).tocsr()
 
 
 def rows(B: Any, m: np.ndarray, vecs: np.ndarray, n: int) -> Any:
@@ -179,9 +196,12 @@ def pieces(pp: tuple[np.ndarray, np.ndarray, np.ndarray], cuts: np.ndarray, w: f
     g = _ev(pp, (mid[:, None] + half[:, None] * _GL5_X[None, :]).ravel(), 1)
     seg_len = half * (np.hypot(g[:, 0], g[:, 1]).reshape(len(mid), 5) @ _GL5_W)
     starts = np.concatenate(([0], ends[:-1] + 1))
-    pts = list(map(tuple, np.hstack((P, np.full((len(s), 1), w))).tolist()))
-    tans = list(map(tuple, np.hstack((tan, np.zeros((len(s), 1)))).tolist()))
-    curvs = list(map(tuple, np.hstack((curv, np.zeros((len(s), 1)))).tolist()))
+    # (every point shares one float for its applicate, every vector one zero: a run of thousands
+    # of chords holds its samples as Python tuples)
+    wf, zero = float(w), 0.0
+    pts = [(x, y, wf) for x, y in P.tolist()]
+    tans = [(x, y, zero) for x, y in tan.tolist()]
+    curvs = [(x, y, zero) for x, y in curv.tolist()]
     lengths = seg_len.tolist()
     out = []
     for i0, i1 in zip(starts.tolist(), ends.tolist(), strict=True):

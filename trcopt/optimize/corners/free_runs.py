@@ -16,9 +16,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
+from trcopt.geometry import Poly
+from trcopt.geometry.poly import hermite_pieces
 from trcopt.modes import CornerObjective
 from trcopt.optimize.corners.assemble import TARGET_MARGIN, Spline, assemble
 from trcopt.optimize.corners.chain import ChainSite, ChainSolution, find_chains, solve_chain
@@ -119,17 +122,86 @@ def _circles_limit_speed(job: CornerJob, segs: Sequence[Segment], chain: ChainSi
 def _distances(splines: list[Spline]) -> dict[int, dict[str, float]]:
     """Per joint on a spline: the distance of the spline from the polyline (``contour_mm``, the
     largest over the run, measured on the spline's dense samples) and from the run's vertices
-    (``vertex_mm``, each vertex to the spline sampled every 2 µm)."""
-    from scipy.spatial import cKDTree
-
+    (``vertex_mm``, each vertex to the spline sampled every 2 µm: :func:`_vertex_distances`)."""
     out: dict[int, dict[str, float]] = {}
     for chain, sol, _ in splines:
-        pts = np.vstack([p.points_at(np.linspace(0.0, p.length, int(p.length / 2e-3) + 2))[:, :2] for p in sol.pieces])
         vertices = np.array([e.point2(1.0) for e in chain.full[:-1]], float)
-        far = cKDTree(pts).query(vertices)[0]
+        far = _vertex_distances(sol.pieces, vertices)
         for k, d in zip(chain.joints, far, strict=True):
             out[k] = {"vertex_mm": float(d), "contour_mm": float(sol.max_offset)}
     return out
+
+
+SAMPLE_MM = 2e-3  # spacing of the spline samples of the vertex distances
+
+
+def _vertex_distances(pieces: Sequence[Poly], vertices: np.ndarray) -> np.ndarray:
+    """The distance of each vertex (the joint between pieces i and i + 1 of a run's spline) to the
+    nearest of the spline's samples (every piece at ``np.linspace(0, length, length // 2 µm + 2)``).
+
+    The spline passes within ε of every vertex where its two pieces meet, so the samples near
+    that end are measured first; a sample s farther along a piece from its end than four times
+    that distance (and two samples) is no nearer (the pieces are parametrised by arc length and
+    bend little over a few µm), nor is a sample of a piece whose samples' box lies farther away
+    (less half the sample spacing and a µm of Hermite bulge); the others are measured too. The
+    distances are those of a k-d tree over every sample (the same sum of squares), found among
+    fewer."""
+    arrays = [p.arrays() for p in pieces]
+    length = np.array([a[0][-1] for a in arrays])
+    count = (length / SAMPLE_MM).astype(int) + 2
+    size = np.array([len(a[0]) for a in arrays])
+    first = np.concatenate(([0], np.cumsum(size)))[:-1]
+    cum, pts, tans = (np.concatenate([a[m] for a in arrays]) for m in range(3))
+    joined: tuple[Any, Any, Any, Any] = (
+        cum,
+        pts,
+        tans,
+        None if arrays[0][3] is None else np.concatenate([a[3] for a in arrays]),
+    )
+    box = np.array([(*a[1][:, :2].min(axis=0), *a[1][:, :2].max(axis=0)) for a in arrays])
+
+    def samples(piece: np.ndarray, j: np.ndarray) -> np.ndarray:
+        # Poly.points_at(np.linspace(0, L, n))[j] of every (piece, j): hermite_at on each piece's
+        # own arrays (its intervals found piece by piece), evaluated in one pass
+        L, n = length[piece], count[piece]
+        s = j * (L / (n - 1))
+        s[j == n - 1] = L[j == n - 1]
+        i = np.empty(len(s), np.int64)
+        for q in np.unique(piece).tolist():
+            at = piece == q
+            cum = arrays[q][0]
+            i[at] = first[q] + np.clip(np.searchsorted(cum, np.clip(s[at], 0.0, cum[-1]), side="right") - 1, 0,
+                                       size[q] - 2)  # fmt: skip
+        return hermite_pieces(joined, i, np.clip(s, 0.0, length[piece]), 0)[:, :2]
+
+    k = np.arange(len(vertices))
+    ends = samples(np.concatenate((k, k + 1)), np.concatenate((count[k] - 1, np.zeros(len(k), np.int64))))
+    d2 = ((ends - np.vstack((vertices, vertices))) ** 2).sum(axis=1)
+    d0 = np.sqrt(np.minimum(d2[: len(k)], d2[len(k) :]))
+    # per vertex: the samples of its two pieces near their common end, and every sample of the
+    # other pieces whose boxes come near
+    w0 = (4.0 * d0 / (length[k] / (count[k] - 1))).astype(int) + 2
+    w1 = (4.0 * d0 / (length[k + 1] / (count[k + 1] - 1))).astype(int) + 2
+    lo0, hi1 = np.maximum(count[k] - 1 - w0, 0), np.minimum(w1, count[k + 1] - 1)
+    whose, piece, j = [], [], []
+    for kk, a, b in zip(k.tolist(), lo0.tolist(), hi1.tolist(), strict=True):
+        n0 = count[kk] - a
+        whose.append(np.full(n0 + b + 1, kk))
+        piece.append(np.concatenate((np.full(n0, kk), np.full(b + 1, kk + 1))))
+        j.append(np.concatenate((np.arange(a, count[kk]), np.arange(b + 1))))
+    gap = np.maximum(np.maximum(box[None, :, :2] - vertices[:, None, :], vertices[:, None, :] - box[None, :, 2:]), 0.0)
+    near = np.hypot(gap[..., 0], gap[..., 1]) <= (d0 + 0.5 * SAMPLE_MM + 1e-3)[:, None]
+    near[k, k] = near[k, k + 1] = False
+    for kk, q in zip(*np.nonzero(near), strict=True):
+        whose.append(np.full(count[q], kk))
+        piece.append(np.full(count[q], q))
+        j.append(np.arange(count[q]))
+    whose_a, piece_a, j_a = (np.concatenate(x) for x in (whose, piece, j))
+    rel = samples(piece_a, j_a) - vertices[whose_a]
+    dist2 = rel[:, 0] * rel[:, 0] + rel[:, 1] * rel[:, 1]
+    out = np.full(len(vertices), np.inf)
+    np.minimum.at(out, whose_a, dist2)
+    return np.sqrt(out)
 
 
 def _flat(seg: Segment) -> bool:

@@ -37,7 +37,7 @@ from trcopt.optimize.corners.records import CornerRecord, CornerResult
 from trcopt.optimize.corners.selection import fastest
 from trcopt.optimize.corners.sites import TANGENT_TOL_RAD, CornerSite, curvature_jump_joints, find_corner_sites
 from trcopt.optimize.corners.strategies import CornerJob
-from trcopt.optimize.corners.time_model import quicker
+from trcopt.optimize.corners.time_model import RUN_SPLINE_MARGIN, quicker
 from trcopt.path import Segment
 from trcopt.progress import iterate
 from trcopt.verify.contour import part_contour
@@ -87,7 +87,8 @@ def _free_blends(job: CornerJob) -> CornerResult:
 def _with_run_splines(job: CornerJob, circles: CornerResult) -> CornerResult:
     """The uncompensated path's circular blends ``circles``, or the plan with G2 splines across its
     runs of CAM chords (:func:`~trcopt.optimize.corners.free_runs.run_splines`) where there are
-    such runs and — with ``select`` — it times faster."""
+    such runs and — with ``select`` — it times faster (by the cycle-time model where the two differ
+    by more than :data:`~trcopt.optimize.corners.time_model.RUN_SPLINE_MARGIN`)."""
     splines = run_splines(job)
     if splines is None:
         return circles
@@ -96,7 +97,7 @@ def _with_run_splines(job: CornerJob, circles: CornerResult) -> CornerResult:
     from trcopt.config import DEFAULT_MACHINE
 
     m = job.machine or DEFAULT_MACHINE
-    return splines if not quicker(circles.segments, splines.segments, m) else circles
+    return splines if not quicker(circles.segments, splines.segments, m, RUN_SPLINE_MARGIN) else circles
 
 
 def _renumber(first: CornerResult, second: CornerResult) -> CornerResult:

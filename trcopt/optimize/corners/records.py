@@ -85,7 +85,7 @@ class CornerResult:
         One record per corner site, by joint index.
     max_deviation_mm:
         Largest material left beyond the exact path's cut, mm (measured by
-        :func:`~trcopt.optimize.corners.boundary.cut_deviation`).
+        :func:`~trcopt.optimize.corners.deviation.cut_deviation`).
     mode:
         Name of the strategy that made it (:mod:`trcopt.optimize.corners.strategies`).
     objective:

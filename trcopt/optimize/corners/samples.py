@@ -156,19 +156,35 @@ def boxes(geoms: Sequence[Line | Arc | object]) -> np.ndarray:
             curves.append(i)
             continue
         out[i] = (lo[0], lo[1], hi[0], hi[1])
-    if curves:
-        pts = [geoms[i].sample_points() for i in curves]  # type: ignore[attr-defined]
+    for at in range(0, len(curves), BOX_CURVES):
+        # (a few thousand curves at a time: a path of 10⁵ spline pieces has millions of samples)
+        part = curves[at : at + BOX_CURVES]
+        pts = [geoms[i].sample_points() for i in part]  # type: ignore[union-attr]
         P = np.array([p[:2] for p in chain.from_iterable(pts)], float)
         first = np.concatenate(([0], np.cumsum([len(p) for p in pts])[:-1]))
-        out[curves, :2] = np.minimum.reduceat(P, first, axis=0)
-        out[curves, 2:] = np.maximum.reduceat(P, first, axis=0)
+        out[part, :2] = np.minimum.reduceat(P, first, axis=0)
+        out[part, 2:] = np.maximum.reduceat(P, first, axis=0)
     return out
 
 
+BOX_CURVES = 4096  # curves whose boxes are found in one pass
+
+
 def _arc_box(a: Arc) -> tuple[tuple[float, float], tuple[float, float]]:
-    # the circle's box: a superset of the arc's, enough for a proximity filter
+    """The arc's box: its ends and the points of its sweep at the axis directions (grown by the
+    rounding of its samples' cosines: a blend between nearly collinear chords has a radius of
+    metres, and its circle's box would meet every part of a path)."""
     cx, cy, r = a.center[0], a.center[1], a.radius
-    return (cx - r, cy - r), (cx + r, cy + r)
+    (x0, y0), (x1, y1) = a.point2(0.0), a.point2(1.0)
+    xs, ys = [x0, x1], [y0, y1]
+    turn, sign = abs(a.sweep), 1.0 if a.sweep >= 0 else -1.0
+    for k in range(4):
+        ang = 0.5 * math.pi * k
+        if turn >= 2.0 * math.pi - 1e-12 or ((ang - a.a0) * sign) % (2.0 * math.pi) <= turn:
+            xs.append(cx + r * math.cos(ang))
+            ys.append(cy + r * math.sin(ang))
+    pad = 1e-9 * (1.0 + r + abs(cx) + abs(cy))
+    return (min(xs) - pad, min(ys) - pad), (max(xs) + pad, max(ys) + pad)
 
 
 def meet(table: np.ndarray, box: np.ndarray, pad: float) -> np.ndarray:

@@ -20,9 +20,8 @@ from trcopt.geometry import Arc
 from trcopt.modes import TransitionKind
 from trcopt.optimize.corners.arc import arc_transitions
 from trcopt.optimize.corners.assemble import TransitionPlan, assemble
-from trcopt.optimize.corners.boundary import cut_deviation
-from trcopt.optimize.corners.circular import circular_blend
 from trcopt.optimize.corners.curves import quintic_basis
+from trcopt.optimize.corners.deviation import cut_deviation
 from trcopt.optimize.corners.qp import CornerGeometry
 from trcopt.optimize.corners.records import CornerResult
 from trcopt.optimize.corners.strategies import CornerJob
@@ -56,15 +55,17 @@ def fastest(
         if site.min_cut > 0.0:  # transition circles: G2 or the circle, nothing to choose here
             continue
         sol = solved.get((k, eps_of[k]))
-        built = circular_blend(site, eps_of[k])
-        if sol is None or not sol.ok or built is None:
+        if sol is None or not sol.ok:
+            continue
+        built = plan.circle(k, site)
+        if built is None:
             continue
         feed_mm_s = segs[k].feed_mm_s
         feed = m.rapid_mm_s if feed_mm_s is None else float(feed_mm_s)
         shorter = _local_time(sol.geometry, built, feed, a_lat) <= 0.0
         choice[k] = TransitionKind.QUINTIC if shorter else TransitionKind.ARC
     if set(choice.values()) == {TransitionKind.QUINTIC, TransitionKind.ARC}:
-        hybrid = assemble(segs, single, eps_of, solved, job.strategy, choice, plan.splines)
+        hybrid = assemble(segs, single, eps_of, solved, job.strategy, choice, plan.splines, plan.circles)
         hybrid.max_deviation_mm = cut_deviation(job.programmed, segs, hybrid.segments)[0]
         if hybrid.max_deviation_mm <= job.tolerance_mm and not quicker(best.segments, hybrid.segments, m):
             best = hybrid

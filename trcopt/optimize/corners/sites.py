@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import cached_property, partial
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -39,6 +39,7 @@ __all__ = [
 ]
 
 MAX_TURN_RAD = math.radians(170.0)  # sharper turns (near reversals) keep the exact path
+WITHIN_POINTS = 4096  # corner points whose programmed neighbours are found at once
 TANGENT_TOL_RAD = 1e-6  # smaller turns are tangent-continuous joints, not corners
 
 
@@ -101,6 +102,11 @@ class CornerSite:
     def probe_dirs(self) -> np.ndarray:
         """Unit directions away from the material at :attr:`probes` (n×2)."""
         return self._probe_pair[1]
+
+    def release(self) -> None:
+        """Forget the probes (computed again when next needed): a plan of many corners keeps
+        their sites, and their probes would hold about 100 KB each."""
+        self.__dict__.pop("_probe_pair", None)
 
     def material_left(self, curve: np.ndarray, sa: float, sb: float, eps: float) -> np.ndarray:
         """Material left (mm) at every probe for a transition sampled by ``curve`` (k×2) that
@@ -316,9 +322,33 @@ def find_corner_sites(
     for x in pending:
         prog = progs[x.k]
         (ex, step, reach), (_, _, R, sign, _, _) = x.probes, x.head
-        probes = partial(boundary_probes, ex, list(prog), R, sign, step, near=x.joint, reach=reach)
+        probes = _ProbeSource(tuple(ex), prog, R, sign, step, x.joint, reach)
         sites.append((x.k, CornerSite(*x.head, prog, probes, *x.tail)))
     return sites
+
+
+class _ProbeSource:
+    """The probes of a corner's cut boundary (:func:`~.boundary.boundary_probes` of its exact
+    elements and programmed contour near ``joint``), computed when called: a plan keeps one per
+    corner, so it holds only references and numbers (picklable for the worker processes)."""
+
+    __slots__ = ("exact", "programmed", "radius", "sign", "step", "joint", "reach")
+
+    def __init__(self, exact: tuple[Line | Arc, ...], programmed: tuple[Element, ...], radius: float, sign: float,
+                 step: float, joint: np.ndarray, reach: float) -> None:  # fmt: skip
+        self.exact, self.programmed, self.radius, self.sign = exact, programmed, radius, sign
+        self.step, self.joint, self.reach = step, joint, reach
+
+    def __getstate__(self) -> tuple:
+        return tuple(getattr(self, k) for k in self.__slots__)
+
+    def __setstate__(self, state: tuple) -> None:
+        for k, v in zip(self.__slots__, state, strict=True):
+            setattr(self, k, v)
+
+    def __call__(self) -> tuple[np.ndarray, np.ndarray]:
+        return boundary_probes(self.exact, list(self.programmed), self.radius, self.sign, self.step,
+                               near=self.joint, reach=self.reach)  # fmt: skip
 
 
 class _PlaneGrids:
@@ -329,23 +359,29 @@ class _PlaneGrids:
         self._by_plane: dict[Plane, tuple[list[Element], BoxGrid, Elements]] = {}
         for plane in {p for p, _ in contour}:
             els = [g for p, g in contour if p == plane]
-            self._by_plane[plane] = (els, BoxGrid(np.array([bbox(g) for g in els], float)), Elements(els))  # type: ignore[arg-type]
+            self._by_plane[plane] = (els, BoxGrid(np.array([bbox(g) for g in els], float)), Elements(els))
 
     def within(self, plane: Plane, points: np.ndarray, radii: np.ndarray) -> list[tuple[Element, ...]]:
         """For every point (m×2, mm) the elements of ``plane`` at most its radius away
         (:func:`~trcopt.verify.model.point_distance`), in contour order: candidates by their boxes,
-        distances of all pairs at once, and the scalar distance where the two come within rounding
-        of the radius."""
-        out: list[list[Element]] = [[] for _ in range(len(points))]
+        distances of all pairs at once (WITHIN_POINTS points at a time: bounded memory), and the
+        scalar distance where the two come within rounding of the radius."""
         if plane not in self._by_plane or not len(points):
             return [()] * len(points)
+        out: list[tuple[Element, ...]] = []
+        for lo in range(0, len(points), WITHIN_POINTS):
+            out += self._within(plane, points[lo : lo + WITHIN_POINTS], radii[lo : lo + WITHIN_POINTS])
+        return out
+
+    def _within(self, plane: Plane, points: np.ndarray, radii: np.ndarray) -> list[tuple[Element, ...]]:
+        out: list[list[Element]] = [[] for _ in range(len(points))]
         els, grid, arrays = self._by_plane[plane]
         q, i = grid.near_many(np.column_stack((points, points)), radii)
         d = arrays.distances(i, points[q])
         r = radii[q]
         keep = d <= r
         for j in np.nonzero(np.abs(d - r) <= 1e-9 * (1.0 + r))[0].tolist():
-            keep[j] = point_distance(els[i[j]], (float(points[q[j], 0]), float(points[q[j], 1]))) <= r[j]  # type: ignore[arg-type]
+            keep[j] = point_distance(els[i[j]], (float(points[q[j], 0]), float(points[q[j], 1]))) <= r[j]
         for qq, ii in zip(q[keep].tolist(), i[keep].tolist(), strict=True):
             out[qq].append(els[ii])
         return [tuple(x) for x in out]
