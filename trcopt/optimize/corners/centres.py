@@ -24,7 +24,7 @@ import numpy as np
 
 from trcopt.geometry import Arc, Line, Poly
 from trcopt.geometry.poly import hermite_pieces
-from trcopt.optimize.corners.samples import boxes
+from trcopt.optimize.corners.samples import boxes, joined_curves
 from trcopt.path import Segment
 
 __all__ = ["CentreSamples"]
@@ -90,16 +90,7 @@ class CentreSamples:
         joins them: their arrays, each curve's offset, length, first sample and sample count."""
         if not group:
             return ((), np.zeros(0), np.zeros(0), np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64))
-        parts = [known[id(g)] if id(g) in known else known.setdefault(id(g), g.arrays()) for _, g in group]
-        lengths = np.array([p[0][-1] for p in parts])
-        sizes = np.array([len(p[0]) for p in parts])
-        offset = np.concatenate(([0.0], np.cumsum(lengths)))[:-1]
-        first = np.concatenate(([0], np.cumsum(sizes)))[:-1]
-        cum = np.concatenate([p[0] for p in parts]) + np.repeat(offset, sizes)
-        K = None if parts[0][3] is None else np.concatenate([p[3] for p in parts])
-        joined = (cum, np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts]), K)
-        counts = np.maximum(2, np.ceil(lengths / step).astype(int) + 1)
-        return joined, offset, lengths, first, counts, sizes
+        return joined_curves([g for _, g in group], step, known)
 
     def __len__(self) -> int:
         return len(self.kind)

@@ -120,10 +120,10 @@ def path_samples(segments: Sequence[Segment], step: float, arrays: dict[int, Any
     return np.vstack(pts) if pts else np.zeros((0, 2))
 
 
-def curve_samples(curves: Sequence[Poly], step: float, arrays: dict[int, Any] | None = None) -> np.ndarray:
-    """Points of Poly curves (all with or all without curvatures) every ``step`` mm at most, n×2:
-    their samples in one set of arrays, evaluated in one pass (``arrays``: see :func:`path_samples`)."""
-    known = {} if arrays is None else arrays
+def joined_curves(curves: Sequence[Poly], step: float, known: dict[int, Any]) -> tuple[Any, ...]:
+    """Poly curves' sample arrays joined end to end (``known``: the arrays by curve id, filled in as
+    they are made): the joined arrays, each curve's offset along them, length, first sample, the
+    number of points every ``step`` mm at most, and its sample count."""
     parts = [known[id(g)] if id(g) in known else known.setdefault(id(g), g.arrays()) for g in curves]
     lengths = np.array([p[0][-1] for p in parts])
     sizes = np.array([len(p[0]) for p in parts])
@@ -133,6 +133,14 @@ def curve_samples(curves: Sequence[Poly], step: float, arrays: dict[int, Any] | 
     K = None if parts[0][3] is None else np.concatenate([p[3] for p in parts])
     joined = (cum, np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts]), K)
     counts = np.maximum(2, np.ceil(lengths / step).astype(int) + 1)
+    return joined, offset, lengths, first, counts, sizes
+
+
+def curve_samples(curves: Sequence[Poly], step: float, arrays: dict[int, Any] | None = None) -> np.ndarray:
+    """Points of Poly curves (all with or all without curvatures) every ``step`` mm at most, n×2:
+    their samples in one set of arrays, evaluated in one pass (``arrays``: see :func:`path_samples`)."""
+    joined, offset, lengths, first, counts, sizes = joined_curves(curves, step, {} if arrays is None else arrays)
+    cum = joined[0]
     member = np.repeat(np.arange(len(curves)), counts)
     j = np.arange(int(counts.sum())) - np.repeat(np.concatenate(([0], np.cumsum(counts)[:-1])), counts)
     s = offset[member] + lengths[member] * (j / (counts - 1)[member])
