@@ -42,3 +42,13 @@ def test_a_plan_loads_only_its_controller(tmp_path):
         assert not loaded & others, (name, loaded & others)
         # np.median and np.unique would load numpy.ma (a few ms of a short run) on their first call
         assert "numpy.ma" not in loaded, name
+
+
+def test_controllers_with_deferred_stages_pickle():
+    import pickle
+
+    from trcopt import controllers
+
+    for name in ("siemens", "linuxcnc"):
+        c = pickle.loads(pickle.dumps(controllers.get(name)))
+        assert c.name == name and callable(c.read) and callable(c.compensate)

@@ -36,16 +36,21 @@ CompensateFn = Callable[[Iterable[Move], TrcSettings, list[Diagnostic], bool], I
 """``(moves, settings, diagnostics, complete)`` → tool-centre segments; an alarm stops the stream."""
 
 
-def deferred(module: str, name: str) -> Callable[..., Any]:
+class deferred:  # noqa: N801 - used as a function
     """The function ``name`` of ``module``, imported when it is first called: a controller's
     reader and compensation load with the first program of that controller, not with the
-    registry (a short run's start-up is mostly imports)."""
+    registry (a short run's start-up is mostly imports). Picklable, like the function itself."""
 
-    def call(*args: Any, **kwargs: Any) -> Any:
-        return getattr(importlib.import_module(module), name)(*args, **kwargs)
+    __slots__ = ("module", "name")
 
-    call.__name__ = call.__qualname__ = name
-    return call
+    def __init__(self, module: str, name: str) -> None:
+        self.module, self.name = module, name
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return getattr(importlib.import_module(self.module), self.name)(*args, **kwargs)
+
+    def __repr__(self) -> str:
+        return f"deferred({self.module!r}, {self.name!r})"
 
 
 @dataclass(frozen=True, slots=True)
