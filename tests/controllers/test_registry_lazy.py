@@ -52,3 +52,12 @@ def test_controllers_with_deferred_stages_pickle():
     for name in ("siemens", "linuxcnc"):
         c = pickle.loads(pickle.dumps(controllers.get(name)))
         assert c.name == name and callable(c.read) and callable(c.compensate)
+
+
+def test_a_plan_without_gcode_does_not_load_the_writers(tmp_path):
+    file, text = PROGRAMS["linuxcnc"]
+    path = tmp_path / file
+    path.write_text(text)
+    run = f"from trcopt.cli import main\nassert main(['plan', {str(path)!r}, '--no-timing', '-q']) == 0\n"
+    loaded = _loaded_after(run)
+    assert "trcopt.io.gcode_program" not in loaded and "trcopt.io.klartext" not in loaded

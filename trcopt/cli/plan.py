@@ -223,8 +223,6 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_plan(args: argparse.Namespace) -> int:
     from trcopt.io.atomic import stage_chunks
-    from trcopt.io.gcode_program import plan_to_gcode_chunks
-    from trcopt.io.klartext import plan_to_klartext
     from trcopt.progress import reporting, stage, terminal_reporter
 
     if (args.csv or args.png) and args.no_timing:
@@ -262,6 +260,9 @@ def run_plan(args: argparse.Namespace) -> int:
     if args.json:
         outputs.append((args.json, lambda: result.json_chunks(samples=args.csv)))
     if args.gcode:
+        from trcopt.io.gcode_program import plan_to_gcode_chunks  # (a plan without --gcode never loads them)
+        from trcopt.io.klartext import plan_to_klartext
+
         outputs.append(
             (
                 args.gcode,
