@@ -71,3 +71,15 @@ def wrap_positive(angle: float) -> float:
     if a >= TWO_PI:
         a -= TWO_PI
     return a
+
+
+def bisector_foot(start: Vec2, end: Vec2, centre: Vec2) -> Vec2:
+    """The point of the perpendicular bisector of the chord ``start``–``end`` nearest ``centre``
+    (the centre of a circle through both points nearest a given one); ``centre`` for a zero chord."""
+    chord = math.hypot(end[0] - start[0], end[1] - start[1])
+    if chord == 0.0:
+        return centre
+    mu, mv = 0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])
+    nu, nv = -(end[1] - start[1]) / chord, (end[0] - start[0]) / chord
+    h = (centre[0] - mu) * nu + (centre[1] - mv) * nv
+    return (mu + h * nu, mv + h * nv)

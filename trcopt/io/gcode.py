@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 from trcopt.codes import Code
 from trcopt.errors import TrcoptError
+from trcopt.geometry import vec
 from trcopt.geometry.plane import Plane
 from trcopt.geometry.poly import Poly
 from trcopt.geometry.primitives import Arc, Line
@@ -252,12 +253,8 @@ def _arc_block(
         chord = math.hypot(e_u - s_u, e_v - s_v)
         if chord == 0.0:
             continue
-        candidates = [(cu, cv)]
-        # nearest point of the perpendicular bisector of the rounded chord to the exact centre
-        mu, mv = 0.5 * (s_u + e_u), 0.5 * (s_v + e_v)
-        nu, nv = -(e_v - s_v) / chord, (e_u - s_u) / chord
-        h = (cu - mu) * nu + (cv - mv) * nv
-        candidates.append((mu + h * nu, mv + h * nv))
+        # and the nearest point of the perpendicular bisector of the rounded chord to the exact centre
+        candidates = [(cu, cv), vec.bisector_foot((s_u, s_v), (e_u, e_v), (cu, cv))]
         unit = 10.0**-d
         tries: list[tuple[int, float, float, float, float, float]] = []  # (mismatch/nm, shift, I, J, r0, mismatch)
         for c_u, c_v in candidates:

@@ -33,6 +33,7 @@ from trcopt.controllers.siemens.variables import Variables
 from trcopt.controllers.siemens.words import MOTION_KINDS, WORD_HANDLERS, SiemensWords
 from trcopt.errors import AlarmError, Diagnostic, Severity, SourceSpan, alarm
 from trcopt.geometry.plane import Plane
+from trcopt.geometry.vec import bisector_foot
 from trcopt.modes import Side
 from trcopt.nc.collector import collector_paused
 from trcopt.nc.modal import (
@@ -392,26 +393,10 @@ class SiemensReader(ProgramRunner, MotionGeometry, SiemensWords):
                 f"{abs(mismatch[0] - mismatch[1]):.4f} > {tol} mm)",
                 col_span,
             )
-        cu, cv = _corrected_centre((su, sv), (eu, ev), (cu, cv))
+        # within the tolerance the end point is taken as right and the centre corrected onto the
+        # chord's bisector (SINUMERIK circle end point monitoring): the circle runs through both
+        cu, cv = bisector_foot((su, sv), (eu, ev), (cu, cv))
         return plane.to_xyz((cu, cv, sw))
-
-
-def _corrected_centre(
-    start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float]
-) -> tuple[float, float]:
-    """The centre of a circle whose end radius differs from its start radius within the tolerance:
-    moved onto the perpendicular bisector of the chord (the nearest such point), so that the circle
-    runs through the programmed end point — the control takes the end point as right and corrects
-    the centre (SINUMERIK circle end point monitoring). A closed circle keeps its centre."""
-    du, dv = end[0] - start[0], end[1] - start[1]
-    chord2 = du * du + dv * dv
-    if chord2 == 0.0:
-        return centre
-    mu, mv = 0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])
-    along = ((centre[0] - mu) * du + (centre[1] - mv) * dv) / chord2
-    if along == 0.0:
-        return centre
-    return (centre[0] - along * du, centre[1] - along * dv)
 
 
 def read_siemens(text: str, options: ReadOptions) -> NcProgram:
